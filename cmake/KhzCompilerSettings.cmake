@@ -1,0 +1,33 @@
+# Compiler settings shared by every Kilohertz target.
+#
+# Warnings live on an INTERFACE target that targets link PRIVATE (wrapped in BUILD_INTERFACE so it
+# never reaches the export set): consumers of the installed package get none of our flags.
+
+add_library(khz_warnings INTERFACE)
+if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+  target_compile_options(khz_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow
+                                                -Wnon-virtual-dtor -Wcast-align)
+  if(KHZ_WARNINGS_AS_ERRORS)
+    target_compile_options(khz_warnings INTERFACE -Werror)
+  endif()
+endif()
+
+if(KHZ_NATIVE)
+  add_compile_options(-march=native)
+endif()
+
+if(KHZ_SANITIZE)
+  # Applied globally: tests and libraries must agree on the instrumented runtime.
+  add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer
+                      -fno-sanitize-recover=undefined)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
+# Hidden visibility: only what a generated export header marks is part of a library's ABI.
+set(CMAKE_CXX_VISIBILITY_PRESET hidden)
+set(CMAKE_VISIBILITY_INLINES_HIDDEN ON)
+
+find_program(KHZ_CCACHE ccache)
+if(KHZ_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
+  set(CMAKE_CXX_COMPILER_LAUNCHER "${KHZ_CCACHE}")
+endif()

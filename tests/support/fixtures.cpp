@@ -1,0 +1,41 @@
+#include <khz/test/data_paths.hpp>
+#include <khz/test/fixtures.hpp>
+
+#include <fstream>
+#include <sstream>
+
+namespace khz::test {
+
+std::filesystem::path cgal_mesh(std::string_view name) {
+  std::filesystem::path path = std::filesystem::path(cgal_mesh_dir) / name;
+  if (!std::filesystem::exists(path)) {
+    throw reduced::IoError(path.string() + ": CGAL demo mesh missing (install libcgal-demo)");
+  }
+  return path;
+}
+
+std::filesystem::path test_file(std::string_view relative) {
+  std::filesystem::path path = std::filesystem::path(test_data_dir) / relative;
+  if (!std::filesystem::exists(path)) throw reduced::IoError(path.string() + ": test file missing");
+  return path;
+}
+
+std::filesystem::path scratch_file(std::string_view name) {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::filesystem::path dir = std::filesystem::path(scratch_dir);
+  if (info != nullptr) dir /= std::string(info->test_suite_name()) + "." + info->name();
+  std::filesystem::create_directories(dir);
+  std::filesystem::path path = dir / name;
+  std::filesystem::remove(path);
+  return path;
+}
+
+std::string read_bytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw reduced::IoError(file.string() + ": cannot open");
+  std::ostringstream content;
+  content << in.rdbuf();
+  return content.str();
+}
+
+}  // namespace khz::test
