@@ -1,0 +1,45 @@
+#include "commands.hpp"
+
+#include <khz/reduced/io/mesh_file.hpp>
+#include <khz/reduced/mesh/mesh_repair.hpp>
+#include <khz/reduced/mesh/mesh_report.hpp>
+
+#include <iostream>
+#include <memory>
+
+namespace khz::tool {
+
+void add_repair_command(CLI::App& app) {
+  struct Arguments {
+    std::string input, output;
+    reduced::RepairOptions options;
+    bool keep_orientation = false;
+  };
+  auto args = std::make_shared<Arguments>();
+  CLI::App* command = app.add_subcommand(
+      "repair", "Weld vertices, drop degenerate triangles and orient a surface mesh");
+  command->add_option("input", args->input, "Surface mesh to read")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("output", args->output, "Surface mesh to write")->required();
+  command
+      ->add_option("--weld", args->options.weld_tolerance,
+                   "Merge vertices closer than this distance (mesh units)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  command->add_flag("--keep-orientation", args->keep_orientation, "Do not reorient triangles");
+  command->callback([args] {
+    args->options.orient = !args->keep_orientation;
+    reduced::TriangleMesh mesh = reduced::read_triangle_mesh(args->input);
+    const reduced::RepairSummary summary = reduced::repair_mesh(mesh, args->options);
+    reduced::write_triangle_mesh(args->output, mesh);
+    std::cout << "welded " << summary.vertices_welded << " vertices, removed "
+              << summary.triangles_removed << " triangles"
+              << (args->options.orient ? (summary.oriented ? ", oriented" : ", NOT orientable")
+                                       : "")
+              << "\nwrote " << args->output << "\n"
+              << reduced::analyze_mesh(mesh);
+  });
+}
+
+}  // namespace khz::tool

@@ -1,0 +1,18 @@
+#pragma once
+// The khz tool's subcommands. Each registers its options on the CLI11 app and runs when chosen.
+
+#include <CLI/CLI.hpp>
+
+namespace khz::tool {
+
+/// `khz info FILE`: describes a mesh file (counts, bounds, topology checks).
+void add_info_command(CLI::App& app);
+/// `khz convert IN OUT`: converts between mesh formats, chosen by extension.
+void add_convert_command(CLI::App& app);
+/// `khz repair IN OUT`: welds, drops degenerate triangles and orients a surface mesh.
+void add_repair_command(CLI::App& app);
+
+/// True if `path` names a volumetric mesh format (.msh, .node, .ele) rather than a surface.
+bool is_volume_mesh_file(const std::string& path);
+
+}  // namespace khz::tool
