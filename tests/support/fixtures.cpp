@@ -2,6 +2,7 @@
 #include <khz/test/fixtures.hpp>
 
 #include <fstream>
+#include <set>
 #include <sstream>
 
 namespace khz::test {
@@ -36,6 +37,21 @@ std::string read_bytes(const std::filesystem::path& file) {
   std::ostringstream content;
   content << in.rdbuf();
   return content.str();
+}
+
+void expect_corpus_rejected(std::string_view folder, std::span<const MalformedFile> cases,
+                            const std::function<void(const std::filesystem::path&)>& parse) {
+  std::set<std::string> covered;
+  for (const MalformedFile& c : cases) {
+    SCOPED_TRACE(c.file);
+    covered.insert(c.file);
+    const std::filesystem::path file = test_file(std::string(folder) + "/" + c.file);
+    EXPECT_TRUE(throws_with_message([&] { parse(file); }, c.message));
+  }
+  for (const auto& entry : std::filesystem::directory_iterator(test_file(folder))) {
+    EXPECT_TRUE(covered.contains(entry.path().filename().string()))
+        << entry.path() << " has no expected message";
+  }
 }
 
 }  // namespace khz::test

@@ -55,8 +55,10 @@ TriangleMesh uv_sphere(int slices, int stacks) {
   }
   for (int i = 0; i + 1 < rings; ++i) {
     for (int j = 0; j < slices; ++j) {
-      mesh.triangles.row(t++) << ring_vertex(i, j), ring_vertex(i + 1, j), ring_vertex(i + 1, j + 1);
-      mesh.triangles.row(t++) << ring_vertex(i, j), ring_vertex(i + 1, j + 1), ring_vertex(i, j + 1);
+      mesh.triangles.row(t++) << ring_vertex(i, j), ring_vertex(i + 1, j),
+          ring_vertex(i + 1, j + 1);
+      mesh.triangles.row(t++) << ring_vertex(i, j), ring_vertex(i + 1, j + 1),
+          ring_vertex(i, j + 1);
     }
   }
   return mesh;
@@ -72,7 +74,8 @@ TriangleMesh random_soup(int count, std::uint32_t seed) {
   mesh.triangles.resize(count, 3);
   for (int v = 0; v < 3 * count; ++v) {
     for (int c = 0; c < 3; ++c) mesh.vertices(v, c) = coordinate(rng);
-    for (int c = 0; c < 4; ++c) mesh.vertex_colors(v, c) = static_cast<float>(channel(rng)) / 255.0f;
+    for (int c = 0; c < 4; ++c)
+      mesh.vertex_colors(v, c) = static_cast<float>(channel(rng)) / 255.0f;
   }
   for (int t = 0; t < count; ++t) mesh.triangles.row(t) << 3 * t, 3 * t + 1, 3 * t + 2;
   return mesh;

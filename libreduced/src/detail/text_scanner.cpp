@@ -7,21 +7,14 @@
 namespace khz::reduced::detail {
 namespace {
 
-bool is_space(char c) noexcept { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+bool is_space(char c) noexcept {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+}
 
 std::string_view skip_space(std::string_view s) noexcept {
   std::size_t i = 0;
   while (i < s.size() && is_space(s[i])) ++i;
   return s.substr(i);
-}
-
-std::string quoted(std::string_view token) {
-  constexpr std::size_t max_shown = 40;
-  std::string shown(token.substr(0, max_shown));
-  for (char& c : shown) {
-    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
-  }
-  return "'" + shown + (token.size() > max_shown ? "...'" : "'");
 }
 
 }  // namespace
@@ -58,6 +51,14 @@ void TextScanner::require_content_line(char comment, std::string_view expected) 
   }
 }
 
+void TextScanner::require_row(char comment, std::string_view item, std::int64_t index,
+                              std::int64_t count) {
+  if (next_content_line(comment)) return;
+  throw ParseError::at_line(m_source, m_line_number + 1,
+                            "file ends early: expected " + std::string(item) + " " +
+                                std::to_string(index + 1) + " of " + std::to_string(count));
+}
+
 std::string_view TextScanner::next_token() {
   m_line = skip_space(m_line);
   std::size_t i = 0;
@@ -84,7 +85,7 @@ double TextScanner::require_double(std::string_view what) {
   const std::string_view token = require_token(what);
   double value = 0.0;
   if (!parse_double(token, value)) {
-    fail("expected " + std::string(what) + " (a finite number), found " + quoted(token));
+    fail("expected " + std::string(what) + " (a finite number), found " + quoted_token(token));
   }
   return value;
 }
@@ -94,7 +95,7 @@ std::int64_t TextScanner::require_integer(std::string_view what, std::int64_t mi
   const std::string_view token = require_token(what);
   std::int64_t value = 0;
   if (!parse_integer(token, value)) {
-    fail("expected " + std::string(what) + " (an integer), found " + quoted(token));
+    fail("expected " + std::string(what) + " (an integer), found " + quoted_token(token));
   }
   if (value < min || value > max) {
     fail(std::string(what) + " " + std::to_string(value) + " is outside [" + std::to_string(min) +
@@ -105,6 +106,15 @@ std::int64_t TextScanner::require_integer(std::string_view what, std::int64_t mi
 
 void TextScanner::fail(const std::string& message) const {
   throw ParseError::at_line(m_source, m_line_number, message);
+}
+
+std::string quoted_token(std::string_view token) {
+  constexpr std::size_t max_shown = 40;
+  std::string shown(token.substr(0, max_shown));
+  for (char& c : shown) {
+    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+  }
+  return "'" + shown + (token.size() > max_shown ? "...'" : "'");
 }
 
 bool parse_double(std::string_view token, double& value) noexcept {

@@ -4,10 +4,19 @@
 #include <khz/reduced/errors.hpp>
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 
 namespace khz::reduced::detail {
+
+/// Comment character for formats without comments: a NUL never starts a line of a text file.
+inline constexpr char no_comment = '\0';
+/// Vertex and node indices are int: the most vertices, nodes or group ids a mesh can have.
+inline constexpr std::int64_t max_index = std::numeric_limits<int>::max();
+/// Bounds for integers whose range the caller checks itself, with a message naming their role.
+inline constexpr std::int64_t any_integer_min = std::numeric_limits<std::int64_t>::min();
+inline constexpr std::int64_t any_integer_max = std::numeric_limits<std::int64_t>::max();
 
 /// Walks a text buffer line by line and splits lines into whitespace-separated tokens.
 /// Every failure throws ParseError naming the source and the current 1-based line.
@@ -23,6 +32,9 @@ class TextScanner {
   bool next_content_line(char comment);
   /// Like next_content_line(), but a missing line is a "truncated file" error saying `expected`.
   void require_content_line(char comment, std::string_view expected);
+  /// Moves to the line of `item` number `index` (0-based) of the `count` a header declared; at
+  /// the end of data fails with "file ends early: expected <item> <index+1> of <count>".
+  void require_row(char comment, std::string_view item, std::int64_t index, std::int64_t count);
 
   /// Next token of the current line, or an empty view when the line is exhausted.
   std::string_view next_token();
@@ -53,6 +65,9 @@ class TextScanner {
   std::int64_t m_line_number = 0;
   std::string_view m_line;  // unread part of the current line
 };
+
+/// `token` for an error message: quoted, shortened, with control bytes shown as '?'.
+std::string quoted_token(std::string_view token);
 
 /// Parses all of `token` as a finite double, or returns false.
 bool parse_double(std::string_view token, double& value) noexcept;

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -29,12 +31,23 @@ template <typename E = reduced::ParseError, typename Action>
   } catch (const E& error) {
     const std::string message = error.what();
     if (message.find(expected) != std::string::npos) return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure() << "message \"" << message << "\" lacks \"" << expected
-                                         << "\"";
+    return ::testing::AssertionFailure()
+           << "message \"" << message << "\" lacks \"" << expected << "\"";
   } catch (const std::exception& error) {
     return ::testing::AssertionFailure() << "threw the wrong type: " << error.what();
   }
   return ::testing::AssertionFailure() << "did not throw (expected \"" << expected << "\")";
 }
+
+/// A committed malformed file and the text its ParseError must contain (location included).
+struct MalformedFile {
+  const char* file;     ///< Name inside the corpus folder.
+  const char* message;  ///< Expected substring of what(), e.g. "empty.off:1: file ends early".
+};
+
+/// Checks a malformed corpus: `parse(path)` must throw a ParseError containing each case's
+/// message, and every file in tests/data/<folder> must have a case (none goes untested).
+void expect_corpus_rejected(std::string_view folder, std::span<const MalformedFile> cases,
+                            const std::function<void(const std::filesystem::path&)>& parse);
 
 }  // namespace khz::test
