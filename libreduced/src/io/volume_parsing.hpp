@@ -1,0 +1,66 @@
+#pragma once
+// Pieces shared by the TetGen and Gmsh readers and writers: row checks, mesh assembly and
+// shortest round-trip number text (which the VTK writers use too).
+
+#include <khz/reduced/mesh/volume_mesh.hpp>
+
+#include "detail/number_text.hpp"
+#include "detail/text_scanner.hpp"
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace khz::reduced::detail {
+
+/// Number of whitespace-separated fields in `rest` before the first one starting with `comment`.
+/// Rows are counted before they are parsed so a short or long row gets one clear message.
+inline std::int64_t count_fields(std::string_view rest, char comment) {
+  // A scanner over the single line splits tokens exactly as the caller's scanner will.
+  TextScanner fields(rest, std::string());
+  fields.next_line();
+  std::int64_t count = 0;
+  for (std::string_view token = fields.next_token(); !token.empty() && token.front() != comment;
+       token = fields.next_token()) {
+    ++count;
+  }
+  return count;
+}
+
+/// Vertices, element nodes and groups collected row by row while parsing.
+struct VolumeMeshRows {
+  std::vector<double> coordinates;  ///< x y z per vertex.
+  std::vector<int> element_nodes;   ///< nodes_per_element(type) zero-based indices per element.
+  std::vector<int> groups;          ///< Empty, or one group per element.
+
+  VolumeMesh build(ElementType type) const {
+    const auto width = static_cast<Eigen::Index>(nodes_per_element(type));
+    VolumeMesh mesh;
+    mesh.element_type = type;
+    mesh.vertices = Eigen::Map<const VertexMatrix>(
+        coordinates.data(), static_cast<Eigen::Index>(coordinates.size()) / 3, 3);
+    mesh.elements = Eigen::Map<const ElementMatrix>(
+        element_nodes.data(), static_cast<Eigen::Index>(element_nodes.size()) / width, width);
+    if (!groups.empty()) {
+      mesh.element_groups = Eigen::Map<const Eigen::VectorXi>(
+          groups.data(), static_cast<Eigen::Index>(groups.size()));
+    }
+    return mesh;
+  }
+};
+
+/// Appends one "index x y z" line per vertex, numbered from 1: the node block of both a TetGen
+/// .node file and an MSH $Nodes section.
+inline void append_numbered_vertices(std::string& out, const VertexMatrix& vertices) {
+  for (Eigen::Index v = 0; v < vertices.rows(); ++v) {
+    append_number<std::int64_t>(out, v + 1);
+    for (Eigen::Index axis = 0; axis < 3; ++axis) {
+      out += ' ';
+      append_number(out, vertices(v, axis));
+    }
+    out += '\n';
+  }
+}
+
+}  // namespace khz::reduced::detail
