@@ -59,10 +59,12 @@ void write_triangle_mesh(const std::filesystem::path& file, const TriangleMesh& 
   } else if (extension == ".off") {
     detail::write_file_bytes(file, format_off(mesh));
   } else if (extension == ".stl") {
-    detail::write_file_bytes(file, options.binary ? format_stl_binary(mesh) : format_stl_ascii(mesh));
+    detail::write_file_bytes(file,
+                             options.binary ? format_stl_binary(mesh) : format_stl_ascii(mesh));
   } else if (extension == ".ply") {
     detail::write_file_bytes(
-        file, format_ply(mesh, options.binary ? PlyEncoding::binary_little_endian : PlyEncoding::ascii));
+        file,
+        format_ply(mesh, options.binary ? PlyEncoding::binary_little_endian : PlyEncoding::ascii));
   } else if (extension == ".vtk") {
     detail::write_file_bytes(file, format_vtk_legacy(mesh));
   } else if (extension == ".vtu") {

@@ -8,29 +8,40 @@
 
 namespace khz::reduced {
 
-/// Merges vertices closer than `tolerance` (absolute, in mesh units; 0 merges only exact
-/// duplicates), remaps triangles, and drops vertices no triangle uses. Colours of merged
-/// vertices come from the lowest-indexed one. Returns the number of vertices removed.
+/// Merges vertices within `tolerance` of each other (distance ≤ tolerance, absolute, in mesh
+/// units; chains of close vertices merge transitively; 0 merges only exact duplicates), remaps
+/// triangles, and drops vertices no triangle uses (before merging, so they never bridge two
+/// used ones). Surviving vertices keep their relative order, and a merged vertex keeps the
+/// position and colour of its lowest-indexed member.
+/// Triangles that collapse are kept (see remove_degenerate_triangles()). Returns the number
+/// of vertices removed.
 /// @throws MeshError if the mesh is invalid or tolerance is negative or not finite.
 KHZ_REDUCED_API Eigen::Index weld_vertices(TriangleMesh& mesh, double tolerance = 0.0);
 
 /// Removes triangles with a repeated vertex or zero area (as MeshReport defines it) and
-/// exact duplicates of earlier triangles (same vertex set). Returns the number removed.
+/// exact duplicates of earlier triangles (same vertex set), keeping the order of the rest.
+/// Vertices are untouched. Note that removing a zero-area triangle with three distinct
+/// vertices leaves boundary edges (a crack) in a surface that was closed. Returns the number
+/// removed.
 /// @throws MeshError if the mesh is invalid.
 KHZ_REDUCED_API Eigen::Index remove_degenerate_triangles(TriangleMesh& mesh);
 
 /// Makes orientation consistent per connected component (CGAL Polygon Mesh Processing;
 /// vertices of non-manifold configurations are duplicated so each component becomes
-/// orientable), then, for a closed result, orients it to bound a volume (outward normals).
-/// Returns true if the result is consistently oriented.
+/// orientable: copies are appended with the original's position and colour), then, if the
+/// whole result is closed, orients it to bound a volume: outward normals, cavities facing
+/// inwards. A closed result that self-intersects or has degenerate triangles, which CGAL's
+/// volume orientation does not accept, gets each component turned outward instead. Triangles
+/// repeating a vertex are left as they are. Returns true if the result is consistently
+/// oriented.
 /// @throws MeshError if the mesh is invalid.
 KHZ_REDUCED_API bool orient_consistently(TriangleMesh& mesh);
 
 /// What repair_mesh() should do; each step runs in the order listed.
 struct RepairOptions {
-  double weld_tolerance = 0.0;        ///< Passed to weld_vertices(); negative skips welding.
-  bool remove_degenerate = true;      ///< Run remove_degenerate_triangles().
-  bool orient = true;                 ///< Run orient_consistently().
+  double weld_tolerance = 0.0;    ///< Passed to weld_vertices(); negative skips welding.
+  bool remove_degenerate = true;  ///< Run remove_degenerate_triangles().
+  bool orient = true;             ///< Run orient_consistently().
 };
 
 /// What repair_mesh() changed.
