@@ -14,7 +14,8 @@ ParseError::ParseError(const std::string& what, std::string source, std::int64_t
 
 ParseError ParseError::at_line(const std::string& source, std::int64_t line,
                                const std::string& message) {
-  return ParseError(source + ":" + std::to_string(line) + ": " + message, source, line, -1, message);
+  return ParseError(source + ":" + std::to_string(line) + ": " + message, source, line, -1,
+                    message);
 }
 
 ParseError ParseError::at_byte(const std::string& source, std::int64_t byte_offset,

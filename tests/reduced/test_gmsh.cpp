@@ -151,6 +151,8 @@ TEST(Gmsh, MalformedFilesThrowParseErrorsWithLocation) {
        "quadratic_tet.msh:13: element 1 has type 11 (10-node tetrahedron); only linear tetrahedra "
        "(type 4) and hexahedra (type 5) are supported"},
       {"unknown_type.msh", "unknown_type.msh:13: element 1 has unsupported type 16"},
+      {"repeated_node.msh",
+       "repeated_node.msh:13: element 1 lists one node twice (as corners 2 and 4)"},
       {"duplicate_node_tag.msh",
        "duplicate_node_tag.msh:10: node tag 2 is defined twice in $Nodes"},
       {"no_volume.msh", "no_volume.msh:14: $Elements holds no tetrahedra or hexahedra"},

@@ -20,6 +20,10 @@ namespace {
 std::atomic<std::size_t> largest_allocation{0};
 }  // namespace
 
+// This replacement pairs malloc with free; GCC cannot see that the delete below only ever
+// receives pointers from this new, and warns at -O1 and above.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
 void* operator new(std::size_t size) {
   std::size_t seen = largest_allocation.load();
   while (size > seen && !largest_allocation.compare_exchange_weak(seen, size)) {
@@ -29,6 +33,7 @@ void* operator new(std::size_t size) {
 }
 void operator delete(void* memory) noexcept { std::free(memory); }
 void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
+#pragma GCC diagnostic pop
 
 namespace khz::reduced {
 namespace {

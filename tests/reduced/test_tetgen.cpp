@@ -159,6 +159,8 @@ TEST(Tetgen, MalformedFilesThrowParseErrorsWithLocation) {
       {"ok.node", "extra_rows.ele",
        "extra_rows.ele:3: more tetrahedron rows follow than the 1 the header declares"},
       {"ok.node", "no_tetrahedra.ele", "no_tetrahedra.ele:1: the .ele file declares no tetrahedra"},
+      {"ok.node", "repeated_node.ele",
+       "repeated_node.ele:2: tetrahedron 1 lists one node twice (as corners 2 and 4)"},
   };
   for (const MalformedCase& c : cases) {
     const std::string dir = "malformed/tetgen/";

@@ -17,7 +17,7 @@ template <typename T>
 void append_number(std::string& out, T value) {
   char buffer[32];  // the longest shortest-form double, "-2.2250738585072014e-308", has 24
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  out.append(buffer, result.ptr);
+  out.append(buffer, static_cast<std::size_t>(result.ptr - buffer));
 }
 
 /// `value` as the shortest text that reads back exactly, for error messages.

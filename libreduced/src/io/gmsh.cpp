@@ -223,6 +223,8 @@ ElementType read_elements(TextScanner& s, const NodeTags& tags, detail::VolumeMe
       if (keep) rows.element_nodes.push_back(vertex);
     }
     if (keep) {
+      detail::check_distinct_nodes(s, rows.element_nodes, static_cast<int>(kind.nodes),
+                                   "element " + std::to_string(element));
       volume = &kind;
       rows.groups.push_back(group);
       tagged = tagged || tag_count > 0;

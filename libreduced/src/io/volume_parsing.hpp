@@ -50,6 +50,22 @@ struct VolumeMeshRows {
   }
 };
 
+/// Fails at the current line unless the last `width` entries of `element_nodes` (the element
+/// just read) are distinct: such an element has no volume and validate() rejects it.
+/// `element` names it in the file's terms, e.g. "element 7".
+inline void check_distinct_nodes(const TextScanner& s, const std::vector<int>& element_nodes,
+                                 int width, const std::string& element) {
+  const int* nodes = element_nodes.data() + element_nodes.size() - width;
+  for (int a = 0; a < width; ++a) {
+    for (int b = a + 1; b < width; ++b) {
+      if (nodes[a] == nodes[b]) {
+        s.fail(element + " lists one node twice (as corners " + std::to_string(a + 1) + " and " +
+               std::to_string(b + 1) + ")");
+      }
+    }
+  }
+}
+
 /// Appends one "index x y z" line per vertex, numbered from 1: the node block of both a TetGen
 /// .node file and an MSH $Nodes section.
 inline void append_numbered_vertices(std::string& out, const VertexMatrix& vertices) {

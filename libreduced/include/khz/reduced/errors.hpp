@@ -28,7 +28,8 @@ class KHZ_REDUCED_API IoError : public Error {
 class KHZ_REDUCED_API ParseError : public Error {
  public:
   /// Error at a 1-based line of a text file.
-  static ParseError at_line(const std::string& source, std::int64_t line, const std::string& message);
+  static ParseError at_line(const std::string& source, std::int64_t line,
+                            const std::string& message);
   /// Error at a 0-based byte offset of a binary file.
   static ParseError at_byte(const std::string& source, std::int64_t byte_offset,
                             const std::string& message);

@@ -25,7 +25,8 @@ struct TriangleMeshWriteOptions {
 /// Writes a surface mesh; the extension picks the format: .obj, .off, .stl, .ply, .vtk, .vtu.
 /// @throws MeshError if the mesh fails validate(); IoError if the file cannot be written;
 ///         Error for an unknown extension.
-KHZ_REDUCED_API void write_triangle_mesh(const std::filesystem::path& file, const TriangleMesh& mesh,
+KHZ_REDUCED_API void write_triangle_mesh(const std::filesystem::path& file,
+                                         const TriangleMesh& mesh,
                                          const TriangleMeshWriteOptions& options = {});
 
 /// Reads a volumetric mesh: .msh (Gmsh 2.2 ASCII), or TetGen given either the .node or the .ele

@@ -27,7 +27,8 @@ struct VtkFields {
 };
 
 /// Legacy-VTK ASCII unstructured grid (VTK_TRIANGLE cells).
-KHZ_REDUCED_API std::string format_vtk_legacy(const TriangleMesh& mesh, const VtkFields& fields = {});
+KHZ_REDUCED_API std::string format_vtk_legacy(const TriangleMesh& mesh,
+                                              const VtkFields& fields = {});
 /// Legacy-VTK ASCII unstructured grid (VTK_TETRA or VTK_HEXAHEDRON cells); element_groups,
 /// when present, are written as the cell array "group".
 KHZ_REDUCED_API std::string format_vtk_legacy(const VolumeMesh& mesh, const VtkFields& fields = {});

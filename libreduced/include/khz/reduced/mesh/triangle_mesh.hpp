@@ -20,9 +20,9 @@ using ColorMatrix = Eigen::Matrix<float, Eigen::Dynamic, 4, Eigen::RowMajor>;
 /// or a polygon soup (use analyze_mesh() to find out). Orientation convention: triangles are
 /// counter-clockwise seen from outside, so normals (b−a)×(c−a) point outwards.
 struct TriangleMesh {
-  VertexMatrix vertices;    ///< #V×3 positions.
-  TriangleMatrix triangles; ///< #F×3 indices into `vertices`.
-  ColorMatrix vertex_colors;///< Empty, or #V×4 RGBA in [0, 1] (e.g. from a COFF or PLY file).
+  VertexMatrix vertices;      ///< #V×3 positions.
+  TriangleMatrix triangles;   ///< #F×3 indices into `vertices`.
+  ColorMatrix vertex_colors;  ///< Empty, or #V×4 RGBA in [0, 1] (e.g. from a COFF or PLY file).
 
   Eigen::Index num_vertices() const noexcept { return vertices.rows(); }
   Eigen::Index num_triangles() const noexcept { return triangles.rows(); }
