@@ -82,14 +82,14 @@ TEST(MeshFile, VolumeVtkAndVtuFilesHoldTheFormattedText) {
   EXPECT_EQ(test::read_bytes(vtu), format_vtu(five_tet_cube(), fields));
 }
 
-TEST(MeshFile, ReadVolumeMeshValidatesTheParsedMesh) {
-  // The parser accepts a tetrahedron that repeats a node; validate() does not.
+TEST(MeshFile, ReadVolumeMeshRejectsAnElementRepeatingANode) {
   std::string text = test::read_bytes(test::test_file("volume/sparse_tags.msh"));
   text.replace(text.find("10 4 0 100 7"), 12, "10 4 0 100 100");
   const auto file = test::scratch_file("repeated.msh");
   std::ofstream(file) << text;
-  EXPECT_TRUE(test::throws_with_message<MeshError>([&] { read_volume_mesh(file); },
-                                                   "element 0 uses vertex 0 twice"));
+  EXPECT_TRUE(test::throws_with_message(
+      [&] { read_volume_mesh(file); },
+      "repeated.msh:15: element 10 lists one node twice (as corners 1 and 2)"));
 }
 
 TEST(MeshFile, WriteVolumeMeshValidatesBeforeWriting) {
