@@ -5,6 +5,7 @@
 
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(Threads REQUIRED)
+find_package(OpenMP REQUIRED COMPONENTS CXX)  # element loops (GCC's libgomp)
 find_package(CHOLMOD REQUIRED)
 find_package(ARPACK REQUIRED)
 # CGAL warns when it is not the one choosing the build type; we choose it above.

@@ -1,0 +1,1 @@
+// Element quality: implemented with the meshing work.
