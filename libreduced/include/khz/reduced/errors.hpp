@@ -64,4 +64,12 @@ class KHZ_REDUCED_API MeshError : public Error {
   std::int64_t m_element;
 };
 
+/// A numerical procedure failed: a factorization met a singular or indefinite matrix, or a
+/// Newton solve diverged or ran out of iterations. The message says which and with what residual;
+/// the solver's state is left as it was before the failing call.
+class KHZ_REDUCED_API SolverError : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace khz::reduced
