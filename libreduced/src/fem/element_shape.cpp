@@ -1,5 +1,6 @@
 #include <khz/reduced/fem/element_shape.hpp>
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 
 #include <cmath>
