@@ -37,22 +37,39 @@ struct PointModes {
 
 /// Locates points in a volume mesh with a bounding-volume hierarchy over the elements.
 /// Immutable after construction; queries are thread-safe.
+///
+/// A point is inside an element when its barycentric coordinates (tetrahedra) are ≥ −1e-12 or
+/// its natural coordinates (hexahedra) lie in [−1−1e-12, 1+1e-12]³. A point on a face, edge or
+/// vertex shared by several elements goes to the one it is deepest inside, the lowest index on
+/// ties, so the result depends only on the mesh and the point.
 class KHZ_REDUCED_API MeshEmbedding {
  public:
-  /// @throws MeshError if the mesh fails validate() or has no elements.
+  /// Copies the mesh and builds the hierarchy (O(E log E)).
+  /// @throws MeshError if the mesh fails validate(), has no elements, or has an element with no
+  ///         interior (a tetrahedron with volume ≤ 0, a hexahedron with Jacobian ≤ 0 at a Gauss
+  ///         point; FemModel rejects these too), naming that element.
   explicit MeshEmbedding(const VolumeMesh& mesh);
   ~MeshEmbedding();
   MeshEmbedding(MeshEmbedding&&) noexcept;
   MeshEmbedding& operator=(MeshEmbedding&&) noexcept;
 
-  /// Embeds rest-shape point `x` (m): the element containing it, or the nearest element.
+  /// Embeds rest-shape point `x` (m): the element containing it, or else the element nearest
+  /// to it (true distance to the element's boundary; a hexahedron's faces count as two
+  /// triangles each), whose field is extrapolated: barycentric coordinates for tetrahedra,
+  /// natural coordinates for hexahedra — or, if Newton finds none, those of the nearest point
+  /// on the element's boundary.
+  /// @throws Error if `x` has a non-finite coordinate.
   EmbeddedPoint locate(const Eigen::Vector3d& x) const;
-  /// Embeds every row of `points` (#P×3), in parallel.
+  /// Embeds every row of `points` (#P×3), in parallel (OpenMP); row p gives entry p, equal to
+  /// locate(points.row(p)).
+  /// @throws Error naming the first row with a non-finite coordinate.
   std::vector<EmbeddedPoint> locate_all(
       const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>& points)
       const;
 
   /// Displacement (m) of an embedded point under the full displacement u (3n).
+  /// interpolate(), distribute_force() and modes() throw Error if a vector or basis does not
+  /// have 3n rows or the point names no element of this mesh.
   Eigen::Vector3d interpolate(const EmbeddedPoint& point, const Eigen::VectorXd& u) const;
   /// Adds force f (N) acting at the point to the full force vector `forces` (3n), split over
   /// the element's nodes by the shape weights (the transpose of interpolate()).
