@@ -29,6 +29,11 @@ enum class MassLumping {
 /// Construction precomputes, per element and quadrature point (1 for tetrahedra, 2×2×2 Gauss
 /// for hexahedra), the rest-shape gradients ∇φ_a and the integration weights, and the fixed
 /// sparsity pattern of K. Fixed vertices are not part of the model: solvers remove their dofs.
+///
+/// Element loops run in parallel with OpenMP (set the thread count with OMP_NUM_THREADS or
+/// omp_set_num_threads). R, K and the Hessian contraction are bit-identical for any thread count;
+/// the strain energy, a parallel sum, agrees to round-off. Every evaluation @throws Error if a
+/// vector does not have num_dofs() entries.
 class KHZ_REDUCED_API FemModel {
  public:
   /// @param mesh      the rest shape; every element must have positive volume (tetrahedra) or
@@ -68,7 +73,8 @@ class KHZ_REDUCED_API FemModel {
   /// An all-zero matrix with the sparsity pattern of K(u), to pass to the functions below.
   SparseMatrix stiffness_pattern() const;
   /// Tangent stiffness K(u) = ∂R/∂u (N/m) assembled in place into `stiffness`, which must have
-  /// stiffness_pattern()'s pattern (checked in debug builds): no allocation.
+  /// stiffness_pattern()'s pattern: no allocation. @throws Error if it has not (size and entry
+  /// count are always checked, the index arrays in debug builds).
   void tangent_stiffness(const Eigen::VectorXd& u, SparseMatrix& stiffness) const;
   /// R(u) and K(u) in one pass over the elements (what Newton solvers need).
   void forces_and_stiffness(const Eigen::VectorXd& u, Eigen::VectorXd& forces,

@@ -33,7 +33,9 @@ class KHZ_REDUCED_API Material {
   /// Isotropic StVK from Lamé parameters (Pa). @throws Error unless μ > 0, 3λ + 2μ > 0, ρ > 0.
   static Material stvk_lame(LameParameters lame, double density);
   /// General linear material from its Voigt matrix, which must be symmetric (the major symmetry
-  /// C_ijkl = C_klij) and positive definite (a stable material). @throws Error otherwise.
+  /// C_ijkl = C_klij; asymmetry up to 1e-10 × max |C_ij| is accepted and removed) and positive
+  /// definite (a stable material; smallest eigenvalue > 1e-12 × largest). @throws Error
+  /// otherwise, or for a non-finite entry or ρ ≤ 0.
   static Material general(const VoigtMatrix& elasticity, double density);
 
   const VoigtMatrix& elasticity() const noexcept { return m_elasticity; }
