@@ -73,6 +73,24 @@ TEST(FixedDofs, VectorsRoundTrip) {
   EXPECT_EQ(full.sum(), 2.5 * 12);
 }
 
+TEST(FixedDofs, MatrixRowsRoundTrip) {
+  const FixedDofs dofs = example();
+  const Eigen::MatrixXd free = Eigen::MatrixXd::Random(12, 3);
+  const Eigen::MatrixXd full = dofs.expand_rows(free);
+  ASSERT_EQ(full.rows(), 18);
+  ASSERT_EQ(full.cols(), 3);
+  EXPECT_EQ(full.middleRows<3>(3), Eigen::MatrixXd::Zero(3, 3));
+  EXPECT_EQ(full.middleRows<3>(12), Eigen::MatrixXd::Zero(3, 3));
+  for (std::size_t k = 0; k < free_dofs.size(); ++k) {
+    EXPECT_EQ(full.row(free_dofs[k]), free.row(static_cast<Eigen::Index>(k)));
+  }
+  EXPECT_EQ(dofs.restrict_rows(full), free);
+  EXPECT_TRUE(throws_with_message<Error>([&] { (void)dofs.restrict_rows(free); },
+                                         "full matrix has 12 rows, expected 18"));
+  EXPECT_TRUE(throws_with_message<Error>([&] { (void)dofs.expand_rows(full); },
+                                         "free matrix has 18 rows, expected 12"));
+}
+
 TEST(FixedDofs, NothingFixedIsTheIdentity) {
   const FixedDofs dofs(2, {});
   EXPECT_EQ(dofs.num_free_dofs(), 6);

@@ -54,6 +54,24 @@ void FixedDofs::expand_vector(const Eigen::VectorXd& free, Eigen::VectorXd& full
   full(m_free_to_full) = free;
 }
 
+Eigen::MatrixXd FixedDofs::restrict_rows(const Eigen::MatrixXd& full) const {
+  if (full.rows() != num_full_dofs()) {
+    throw Error("full matrix has " + std::to_string(full.rows()) + " rows, expected " +
+                std::to_string(num_full_dofs()));
+  }
+  return full(m_free_to_full, Eigen::all);
+}
+
+Eigen::MatrixXd FixedDofs::expand_rows(const Eigen::MatrixXd& free) const {
+  if (free.rows() != num_free_dofs()) {
+    throw Error("free matrix has " + std::to_string(free.rows()) + " rows, expected " +
+                std::to_string(num_free_dofs()));
+  }
+  Eigen::MatrixXd full = Eigen::MatrixXd::Zero(num_full_dofs(), free.cols());
+  full(m_free_to_full, Eigen::all) = free;
+  return full;
+}
+
 void FixedDofs::check_full_matrix(const SparseMatrix& full) const {
   if (full.rows() != num_full_dofs() || full.cols() != num_full_dofs()) {
     throw Error("full matrix is " + std::to_string(full.rows()) + "×" +

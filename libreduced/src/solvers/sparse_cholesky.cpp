@@ -168,10 +168,10 @@ struct SparseCholesky::Data {
     return std::nullopt;
   }
 
-  // A⁻¹ B for the rows×columns column-major matrix B at `b`; the result lives in `solution`
-  // until the next solve.
-  Eigen::Map<const Eigen::MatrixXd> solve(const double* b, Eigen::Index rows,
-                                          Eigen::Index columns) {
+  // A⁻¹ B (or another of CHOLMOD's systems, e.g. CHOLMOD_L) for the rows×columns column-major
+  // matrix B at `b`; the result lives in `solution` until the next solve.
+  Eigen::Map<const Eigen::MatrixXd> solve(const double* b, Eigen::Index rows, Eigen::Index columns,
+                                          int system = CHOLMOD_A) {
     if (!factorized) throw Error("no factorization to solve with: factorize() first");
     if (rows != size) {
       throw Error("right-hand side has " + std::to_string(rows) + " rows, the matrix " +
@@ -186,7 +186,7 @@ struct SparseCholesky::Data {
     rhs.x = const_cast<double*>(b);  // read only, like the sparse views
     rhs.xtype = CHOLMOD_REAL;
     rhs.dtype = CHOLMOD_DOUBLE;
-    cholmod_solve2(CHOLMOD_A, factor, &rhs, nullptr, &solution, nullptr, &workspace_y, &workspace_e,
+    cholmod_solve2(system, factor, &rhs, nullptr, &solution, nullptr, &workspace_y, &workspace_e,
                    &common);
     throw_if_failed(common, "solve");
     return {static_cast<const double*>(solution->x), size, columns};
@@ -229,6 +229,18 @@ Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
 
 Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& b) const {
   return m_data->solve(b.data(), b.rows(), b.cols());
+}
+
+Eigen::MatrixXd SparseCholesky::solve_lower(const Eigen::MatrixXd& b) const {
+  if (m_data->kind != Kind::llt) throw Error("solve_lower needs an llt factorization");
+  const Eigen::MatrixXd permuted = m_data->solve(b.data(), b.rows(), b.cols(), CHOLMOD_P);
+  return m_data->solve(permuted.data(), permuted.rows(), permuted.cols(), CHOLMOD_L);
+}
+
+Eigen::MatrixXd SparseCholesky::solve_upper(const Eigen::MatrixXd& b) const {
+  if (m_data->kind != Kind::llt) throw Error("solve_upper needs an llt factorization");
+  const Eigen::MatrixXd unpermuted = m_data->solve(b.data(), b.rows(), b.cols(), CHOLMOD_Lt);
+  return m_data->solve(unpermuted.data(), unpermuted.rows(), unpermuted.cols(), CHOLMOD_Pt);
 }
 
 Eigen::Index SparseCholesky::rows() const noexcept { return m_data->size; }

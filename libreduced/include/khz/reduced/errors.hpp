@@ -72,4 +72,11 @@ class KHZ_REDUCED_API SolverError : public Error {
   using Error::Error;
 };
 
+/// A long computation stopped because its ProgressCallback asked it to (returned false). Nothing
+/// partial is returned; the inputs are unchanged.
+class KHZ_REDUCED_API Cancelled : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace khz::reduced

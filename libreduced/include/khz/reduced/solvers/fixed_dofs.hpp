@@ -38,6 +38,13 @@ class KHZ_REDUCED_API FixedDofs {
   /// @throws Error if `free` does not have num_free_dofs() entries.
   void expand_vector(const Eigen::VectorXd& free, Eigen::VectorXd& full) const;
 
+  /// The free rows of a num_full_dofs() × k matrix (e.g. a set of modes), in order.
+  /// @throws Error if `full` does not have num_full_dofs() rows.
+  Eigen::MatrixXd restrict_rows(const Eigen::MatrixXd& full) const;
+  /// The num_full_dofs() × k matrix with `free`'s rows at the free dofs and zero rows at the
+  /// fixed ones. @throws Error if `free` does not have num_free_dofs() rows.
+  Eigen::MatrixXd expand_rows(const Eigen::MatrixXd& free) const;
+
   /// The rows and columns of the free dofs of a full num_full_dofs()² matrix, keeping every
   /// stored entry (explicit zeros too, so a stiffness pattern stays a pattern).
   /// @throws Error if `full` is not num_full_dofs() × num_full_dofs().

@@ -86,6 +86,15 @@ class KHZ_REDUCED_API SparseCholesky {
     }
   }
 
+  /// The two halves of an llt solve, for the factor itself: with A = PᵀLLᵀP (P the fill-reducing
+  /// permutation), solve_lower(B) = L⁻¹PB and solve_upper(B) = PᵀL⁻ᵀB, so
+  /// solve_upper(solve_lower(B)) = A⁻¹B and solve_lower(A X) = LᵀP X (used to change to the
+  /// coordinates z = LᵀPx in which xᵀAy becomes zᵀw, e.g. for mass-weighted PCA).
+  /// @throws Error as solve(), or if kind() is not llt.
+  Eigen::MatrixXd solve_lower(const Eigen::MatrixXd& b) const;
+  /// See solve_lower().
+  Eigen::MatrixXd solve_upper(const Eigen::MatrixXd& b) const;
+
   /// Size of the analyzed matrix, 0 before analyze().
   Eigen::Index rows() const noexcept;
   Kind kind() const noexcept;
