@@ -1,0 +1,57 @@
+#pragma once
+// Modal derivatives: how the linear modes change as the object deforms along them (thesis
+// §2.8.3, eq. 2.45–2.47; unconstrained objects §2.8.7, eq. 2.60).
+
+#include <khz/reduced/basis/linear_modes.hpp>
+#include <khz/reduced/export.hpp>
+#include <khz/reduced/fem/fem_model.hpp>
+#include <khz/reduced/progress.hpp>
+
+#include <Eigen/Core>
+
+#include <array>
+#include <vector>
+
+namespace khz::reduced {
+
+/// Options of compute_modal_derivatives().
+struct ModalDerivativesOptions {
+  /// Right-hand sides solved together (one pass over the factor per block, or one MINRES
+  /// block): larger blocks are faster and need 3n × block_size doubles more memory.
+  int block_size = 64;
+  /// Unconstrained objects only: MINRES stops when ‖b − A x‖ ≤ tolerance·‖b‖ for each
+  /// right-hand side (in the norm of the preconditioner).
+  double tolerance = 1e-10;
+  /// Unconstrained objects only: MINRES iterations per block before SolverError.
+  int max_iterations = 2000;
+  /// Reports stage "Hessian contractions" (one per mode) and "modal derivatives" (one per
+  /// derivative). Cancel by returning false.
+  ProgressCallback progress;
+};
+
+/// The derivatives Φᵢⱼ, unnormalized, on the full dofs (zero at fixed vertices).
+struct ModalDerivatives {
+  /// 3n × pairs.size(); column c is Φ for pairs[c].
+  Eigen::MatrixXd vectors;
+  /// (i, j), 0-based columns of LinearModes::modes. Anchored objects: every i ≤ j
+  /// (k(k+1)/2 pairs, Φᵢⱼ = Φⱼᵢ); unconstrained objects: every ordered pair (k² pairs), since
+  /// the inertia terms make Φᵢⱼ ≠ Φⱼᵢ.
+  std::vector<std::array<int, 2>> pairs;
+  /// Unconstrained objects: the most MINRES iterations one block needed; 0 otherwise.
+  int max_minres_iterations = 0;
+};
+
+/// Modal derivatives of `modes` (computed for `model` by compute_linear_modes).
+///
+/// Anchored: K Φᵢⱼ = −(H : Ψⱼ) Ψᵢ (eq. 2.47) with one Cholesky factorization of K on the free
+/// dofs and the right-hand sides solved in blocks. Unconstrained: (K − λᵢM) Φᵢⱼ =
+/// (MΨᵢΨᵢᵀ − I)(H : Ψⱼ)Ψᵢ (eq. 2.60), solved by MINRES on the regularized operator
+/// K − λᵢM + ΨᵢΨᵢᵀ preconditioned with a Cholesky factorization of K − σM (σ < 0), blocks of
+/// right-hand sides in lockstep; each Φᵢⱼ is then made M-orthogonal to Ψᵢ.
+///
+/// @throws Error if `modes` does not fit the model or options are invalid; SolverError if a
+///         factorization fails or MINRES does not converge; Cancelled.
+KHZ_REDUCED_API ModalDerivatives compute_modal_derivatives(
+    const FemModel& model, const LinearModes& modes, const ModalDerivativesOptions& options = {});
+
+}  // namespace khz::reduced
