@@ -16,5 +16,5 @@ write_basic_package_version_file("${PROJECT_BINARY_DIR}/KilohertzConfigVersion.c
                                  COMPATIBILITY SameMinorVersion)
 install(FILES "${PROJECT_BINARY_DIR}/KilohertzConfig.cmake"
               "${PROJECT_BINARY_DIR}/KilohertzConfigVersion.cmake" cmake/FindCHOLMOD.cmake
-              cmake/FindARPACK.cmake DESTINATION ${KHZ_INSTALL_CMAKEDIR})
+              cmake/FindARPACK.cmake cmake/FindXXHASH.cmake DESTINATION ${KHZ_INSTALL_CMAKEDIR})
 install(FILES LICENSE README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})

@@ -5,7 +5,8 @@
 
 namespace khz::tool {
 
-/// `khz info FILE`: describes a mesh file (counts, bounds, topology checks).
+/// `khz info FILE`: describes a mesh file (counts, bounds, topology checks) or a basis file
+/// (format version, n, r, mesh fingerprint, recipe, size).
 void add_info_command(CLI::App& app);
 /// `khz convert IN OUT`: converts between mesh formats, chosen by extension.
 void add_convert_command(CLI::App& app);
@@ -14,5 +15,7 @@ void add_repair_command(CLI::App& app);
 
 /// True if `path` names a volumetric mesh format (.msh, .node, .ele) rather than a surface.
 bool is_volume_mesh_file(const std::string& path);
+/// True if `path` has the basis file extension (.khzbasis).
+bool is_basis_file(const std::string& path);
 
 }  // namespace khz::tool

@@ -11,5 +11,11 @@ namespace khz::reduced::detail {
 std::string read_file_bytes(const std::filesystem::path& file);
 /// Replaces the file's content with `bytes`. @throws IoError if it cannot be written.
 void write_file_bytes(const std::filesystem::path& file, std::string_view bytes);
+/// Replaces the file's content with `bytes` atomically: writes a temporary file in the same
+/// directory, flushes it to disk and renames it over `file`, so readers (and a crash at any
+/// point) see either the old content or the new, never part of it. A new file gets the
+/// permissions 0666 minus the umask, an existing one is replaced by a new inode.
+/// @throws IoError naming `file` and the system's reason; the temporary file is removed.
+void replace_file_bytes(const std::filesystem::path& file, std::string_view bytes);
 
 }  // namespace khz::reduced::detail

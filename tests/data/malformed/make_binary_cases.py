@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the binary files of the malformed STL and PLY corpus (run from this directory).
+"""Writes the binary files of the malformed STL, PLY and basis corpus (run from this directory).
 
 The text cases are committed as they are; these are generated because they are easier to
 read as code than as hex dumps. Byte offsets the tests expect are noted next to each case.
@@ -62,3 +62,21 @@ write("ply/truncated_binary.ply",
 write("ply/inf_coordinate_binary.ply",
       ply_header("binary_big_endian", 3, 1)
       + struct.pack(">9f", 0, 0, 0, math.inf, 0, 0, 0, 1, 0) + b"\x03" + struct.pack(">3i", 0, 1, 2))
+
+# Basis files: damaged copies of the committed version-1 file (315 bytes). Each damage is one
+# the container must report before it looks at the payload, so no checksum is recomputed here.
+basis = (HERE.parent / "basis" / "tet_v1.khzbasis").read_bytes()
+assert len(basis) == 315 and basis[:8] == b"KHZBASIS"
+write("basis/empty.khzbasis", b"")
+# Another format's bytes: rejected by the magic at byte 0.
+write("basis/not_basis.khzbasis", ply_header("binary_little_endian", 3, 1) + vertices_le)
+# Format version 2 at byte 8: checked before the checksum, which a newer format may change.
+write("basis/future_version.khzbasis", basis[:8] + struct.pack("<I", 2) + basis[12:])
+# Cut inside the 8-byte file length at byte 12.
+write("basis/truncated_header.khzbasis", basis[:16])
+# Cut inside U: the header declares 315 bytes.
+write("basis/truncated.khzbasis", basis[:200])
+# One bit of U flipped: only the checksum (at byte 307) can tell.
+write("basis/flipped_byte.khzbasis", basis[:250] + bytes([basis[250] ^ 0x01]) + basis[251:])
+# Four bytes after the checksum.
+write("basis/trailing_bytes.khzbasis", basis + b"junk")
