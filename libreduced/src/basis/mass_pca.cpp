@@ -1,14 +1,14 @@
 // Mass-weighted PCA (thesis §2.8.1).
 #include "../detail/stage_progress.hpp"
+#include "../detail/tall_qr.hpp"
 
 #include <khz/reduced/basis/mass_pca.hpp>
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/solvers/sparse_cholesky.hpp>
 
-#include <Eigen/Householder>
-#include <Eigen/QR>
 #include <Eigen/SVD>
 
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -46,7 +46,7 @@ class MetricCoordinates {
   MetricCoordinates(const SparseMatrix& mass, PcaMetric metric) : m_metric(metric) {
     if (metric == PcaMetric::mass) {
       m_cholesky.factorize(mass);  // SolverError if M is not positive definite
-      m_mass = &mass;
+      m_mass_rows = mass;          // row-major: Eigen runs M·X on all OpenMP threads
     } else if (metric == PcaMetric::lumped_mass) {
       m_sqrt_lumped = Eigen::VectorXd::Zero(mass.rows());
       for (Eigen::Index j = 0; j < mass.outerSize(); ++j) {
@@ -67,7 +67,7 @@ class MetricCoordinates {
   Eigen::MatrixXd to_metric(const Eigen::MatrixXd& x) const {
     switch (m_metric) {
       case PcaMetric::mass:
-        return m_cholesky.solve_lower(Eigen::MatrixXd(*m_mass * x));  // L⁻¹P(PᵀLLᵀP)x = LᵀPx
+        return m_cholesky.solve_lower(Eigen::MatrixXd(m_mass_rows * x));  // L⁻¹P(PᵀLLᵀP)x = LᵀPx
       case PcaMetric::lumped_mass:
         return m_sqrt_lumped.asDiagonal() * x;
       case PcaMetric::euclidean:
@@ -91,7 +91,7 @@ class MetricCoordinates {
  private:
   PcaMetric m_metric;
   SparseCholesky m_cholesky;
-  const SparseMatrix* m_mass = nullptr;
+  Eigen::SparseMatrix<double, Eigen::RowMajor, int> m_mass_rows;
   Eigen::VectorXd m_sqrt_lumped;
 };
 
@@ -115,18 +115,19 @@ PcaResult principal_components(const Eigen::MatrixXd& samples, const SparseMatri
   const Eigen::MatrixXd z = coordinates.to_metric(samples);
   progress.advance();
 
-  // Z = QR, R = WΣVᵀ: the left singular vectors of Z are QW. The QR of the tall 3n×N matrix
-  // is blocked Householder (BLAS-3 speed); only the small N×N factor goes through the SVD.
-  const Eigen::Index n = z.cols();
-  Eigen::HouseholderQR<Eigen::MatrixXd> qr(z);
+  // Z = QR, R = WΣVᵀ: the left singular vectors of Z are QW. Only the small N×N factor goes
+  // through the SVD; the tall 3n×N QR is LAPACK's blocked Householder. (More samples than dofs,
+  // a toy case, takes the SVD of Z directly.)
+  const bool tall = z.rows() >= z.cols();
+  std::optional<detail::TallQr> qr;
+  if (tall) qr.emplace(z);
   progress.advance();
-  const Eigen::Index k = std::min(z.rows(), n);
-  const Eigen::MatrixXd r = qr.matrixQR().topRows(k).triangularView<Eigen::Upper>();
-  const Eigen::BDCSVD<Eigen::MatrixXd> svd(r, Eigen::ComputeThinU);
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(tall ? qr->r() : z, Eigen::ComputeThinU);
   progress.advance();
 
   PcaResult result;
   result.singular_values = svd.singularValues();
+  const Eigen::Index k = result.singular_values.size();
   const int basis_size = options.basis_size;
   const double sigma1 = result.singular_values(0);
   if (basis_size > k ||
@@ -141,8 +142,8 @@ PcaResult principal_components(const Eigen::MatrixXd& samples, const SparseMatri
   }
 
   Eigen::MatrixXd directions = Eigen::MatrixXd::Zero(z.rows(), basis_size);
-  directions.topRows(k) = svd.matrixU().leftCols(basis_size);
-  directions.applyOnTheLeft(qr.householderQ());
+  directions.topRows(svd.matrixU().rows()) = svd.matrixU().leftCols(basis_size);
+  if (tall) qr->apply_q(directions);
   result.basis = coordinates.from_metric(directions);
   normalize_signs(result.basis);
   progress.finish();
