@@ -153,6 +153,22 @@ TEST(SketchBasis, CancelledBetweenStaticSolves) {
   EXPECT_EQ(report.num_loads, -5);  // the report is left alone
 }
 
+TEST(SketchBasis, CancelledWithinAStaticSolve) {
+  const test::Cantilever beam = small_beam();
+  const std::vector<ForceLoad> loads = sketched_loads(beam);
+  SketchBasisOptions options = sketch_options(3);
+  int solve_reports = 0;
+  options.progress = [&](const Progress& progress) {
+    if (progress.stage != "static solves") return true;
+    EXPECT_EQ(progress.done, 0);  // still inside the first solve
+    return ++solve_reports < 2;   // the stage's start, then the first Newton iteration
+  };
+  EXPECT_TRUE(test::throws_with_message<Cancelled>(
+      [&] { (void)sketch_basis(beam.model, beam.clamped, loads, options); },
+      "cancelled during static solves"));
+  EXPECT_EQ(solve_reports, 2);
+}
+
 TEST(SketchBasis, FailedStaticSolveStopsOrIsSkippedAndReported) {
   const test::Cantilever beam = small_beam();
   // With at most 3 Newton iterations in one load step, the small loads converge (3 iterations

@@ -96,12 +96,19 @@ Basis sketch_basis(const FemModel& model, std::span<const int> fixed_vertices,
   detail::StageProgress solve_stage(progress, "static solves", num_selected);
   Eigen::MatrixXd solutions(model.num_dofs(), static_cast<Eigen::Index>(num_selected));
   std::vector<int> solved_loads;
+  // Each Newton iteration of a solve re-asks the caller (same `done`), so cancelling does not
+  // wait for the running solve to finish.
+  StaticSolveOptions static_options = options.static_solve;
+  static_options.progress = [&](const Progress&) {
+    solve_stage.advance(0);
+    return true;
+  };
   for (std::int64_t s = 0; s < num_selected; ++s) {
     const int load = report.selected_loads[static_cast<std::size_t>(s)];
     try {
       const StaticSolution solution =
           solve_static(model, fixed, loads[static_cast<std::size_t>(load)].to_vector(num_vertices),
-                       options.static_solve);
+                       static_options);
       solutions.col(static_cast<Eigen::Index>(solved_loads.size())) = solution.displacement;
       solved_loads.push_back(load);
       report.static_iterations.push_back(solution.iterations);

@@ -45,9 +45,10 @@ struct KHZ_REDUCED_API SketchBasisOptions {
   /// When false (the default) a static solve that fails stops everything with SolverError
   /// naming the load. When true the load is skipped and listed in SketchReport::failures.
   bool skip_failed_solves = false;
-  /// Receives the stages "force selection", "static solves" (one unit per solve), "mass
-  /// distances", "deformation selection" and "mass PCA". Cancel by returning false; a running
-  /// static solve is finished first.
+  /// Receives the stages "force selection", "static solves" (one unit per solve, re-reported
+  /// after every Newton iteration), "mass distances", "deformation selection" and "mass PCA".
+  /// Cancel by returning false: it takes effect within one Newton iteration.
+  /// static_solve.progress is ignored.
   ProgressCallback progress;
 
   /// @throws Error naming the first invalid value.

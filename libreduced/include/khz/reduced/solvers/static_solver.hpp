@@ -3,6 +3,7 @@
 
 #include <khz/reduced/export.hpp>
 #include <khz/reduced/fem/fem_model.hpp>
+#include <khz/reduced/progress.hpp>
 
 #include <Eigen/Core>
 
@@ -22,6 +23,9 @@ struct StaticSolveOptions {
   /// Backtracking line search after each Newton step (halving up to 30 times): a step is taken
   /// once it decreases the potential energy W(u) − fᵀu enough (Armijo) or the norm ‖R(u) − f‖.
   bool line_search = true;
+  /// Reports stage "static solve", one unit per load step, and asks again after every Newton
+  /// iteration; returning false cancels (Cancelled) within one iteration.
+  ProgressCallback progress;
 };
 
 /// Result of solve_static().
@@ -36,7 +40,7 @@ struct StaticSolution {
 /// @param fixed_vertices vertices held at zero displacement; they must remove the rigid motions
 ///                       (e.g. 3 non-collinear vertices), or K is singular and SolverError follows.
 /// @throws Error for invalid options or sizes; SolverError, naming the load step, iteration and
-///         residual, if Newton does not converge or meets a singular system.
+///         residual, if Newton does not converge or meets a singular system; Cancelled.
 KHZ_REDUCED_API StaticSolution solve_static(const FemModel& model,
                                             std::span<const int> fixed_vertices,
                                             const Eigen::VectorXd& external_force,
