@@ -87,52 +87,61 @@ void solve_unconstrained(const detail::ModalProblem& problem, const LinearModes&
   const SparseCholesky preconditioner = problem.factorize_shifted();  // K − σM, σ < 0
   const SparseMatrix& mass = problem.mass();
   const Eigen::Index k = modes.modes.cols();
-  result.vectors.resize(products.rows(), count);
-  for (int i = 0; i < k; ++i) {
+  // Per mode i: its cluster Ψ_C (modes with λ equal to λᵢ within 1e-6) and MΨ_C.
+  std::vector<Eigen::MatrixXd> psi(static_cast<std::size_t>(k));
+  std::vector<Eigen::MatrixXd> mass_psi(static_cast<std::size_t>(k));
+  for (Eigen::Index i = 0; i < k; ++i) {
     std::vector<Eigen::Index> cluster;
-    for (int m = 0; m < k; ++m) {
+    for (Eigen::Index m = 0; m < k; ++m) {
       if (std::abs(modes.eigenvalues(m) - modes.eigenvalues(i)) <= 1e-6 * modes.eigenvalues(i)) {
         cluster.push_back(m);
       }
     }
-    const Eigen::MatrixXd psi = modes.modes(Eigen::all, cluster);
-    const Eigen::MatrixXd mass_psi = mass * psi;
-    const double lambda = modes.eigenvalues(i);
-    std::vector<Eigen::Index> columns;
-    for (std::size_t c = 0; c < pairs.size(); ++c) {
-      if (pairs[c][0] == i) columns.push_back(static_cast<Eigen::Index>(c));
+    psi[static_cast<std::size_t>(i)] = modes.modes(Eigen::all, cluster);
+    mass_psi[static_cast<std::size_t>(i)] = mass * psi[static_cast<std::size_t>(i)];
+  }
+  result.vectors.resize(products.rows(), count);
+  // Blocks mix pairs of different i: each column has its own operator K − λᵢM + Ψ_CΨ_Cᵀ, but
+  // K·X, M·X and the preconditioner solve still run on the whole block at once.
+  for (Eigen::Index first = 0; first < count; first += options.block_size) {
+    const Eigen::Index columns = std::min<Eigen::Index>(options.block_size, count - first);
+    const auto mode_of = [&](Eigen::Index c) {
+      return static_cast<std::size_t>(pairs[static_cast<std::size_t>(first + c)][0]);
+    };
+    Eigen::VectorXd lambda(columns);
+    Eigen::MatrixXd rhs = -products.middleCols(first, columns);
+    for (Eigen::Index c = 0; c < columns; ++c) {
+      const std::size_t i = mode_of(c);
+      lambda(c) = modes.eigenvalues(static_cast<Eigen::Index>(i));
+      rhs.col(c) -= mass_psi[i] * (psi[i].transpose() * rhs.col(c));  // (MΨΨᵀ − I) g
     }
-    for (std::size_t first = 0; first < columns.size();
-         first += static_cast<std::size_t>(options.block_size)) {
-      const std::size_t last =
-          std::min(columns.size(), first + static_cast<std::size_t>(options.block_size));
-      const std::vector<Eigen::Index> block(columns.begin() + static_cast<std::ptrdiff_t>(first),
-                                            columns.begin() + static_cast<std::ptrdiff_t>(last));
-      const Eigen::MatrixXd g = products(Eigen::all, block);
-      const Eigen::MatrixXd rhs = mass_psi * (psi.transpose() * g) - g;
-      const auto apply = [&](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) {
-        y.noalias() = problem.stiffness() * x;
-        y.noalias() -= lambda * (mass * x);
-        y.noalias() += psi * (psi.transpose() * x);
-      };
-      const auto precondition = [&](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) {
-        y = preconditioner.solve(x);
-      };
-      const auto check_cancel = [&] { progress.advance(0); };
-      Eigen::MatrixXd phi;
-      const detail::MinresReport report = detail::block_minres(
-          apply, precondition, rhs, options.tolerance, options.max_iterations, check_cancel, phi);
-      if (!report.converged) {
-        throw SolverError("MINRES did not converge for the derivatives of mode " +
-                          std::to_string(i) + " in " + std::to_string(options.max_iterations) +
-                          " iterations (relative residual " +
-                          std::to_string(report.worst_relative_residual) + ")");
+    const auto apply = [&](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) {
+      y.noalias() = problem.stiffness() * x;
+      y.noalias() -= (mass * x) * lambda.asDiagonal();
+      for (Eigen::Index c = 0; c < columns; ++c) {
+        y.col(c).noalias() += psi[mode_of(c)] * (psi[mode_of(c)].transpose() * x.col(c));
       }
-      phi -= psi * (mass_psi.transpose() * phi);  // Ψᵢᵀ M Φᵢⱼ = 0
-      result.vectors(Eigen::all, block) = phi;
-      result.max_minres_iterations = std::max(result.max_minres_iterations, report.iterations);
-      progress.advance(static_cast<std::int64_t>(block.size()));
+    };
+    const auto precondition = [&](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) {
+      y = preconditioner.solve(x);
+    };
+    const auto check_cancel = [&] { progress.advance(0); };
+    Eigen::MatrixXd phi;
+    const detail::MinresReport report = detail::block_minres(
+        apply, precondition, rhs, options.tolerance, options.max_iterations, check_cancel, phi);
+    if (!report.converged) {
+      throw SolverError("MINRES did not converge for derivatives " + std::to_string(first) + "–" +
+                        std::to_string(first + columns - 1) + " in " +
+                        std::to_string(options.max_iterations) + " iterations (relative residual " +
+                        std::to_string(report.worst_relative_residual) + ")");
     }
+    for (Eigen::Index c = 0; c < columns; ++c) {
+      const std::size_t i = mode_of(c);
+      phi.col(c) -= psi[i] * (mass_psi[i].transpose() * phi.col(c));  // Ψᵢᵀ M Φᵢⱼ = 0
+    }
+    result.vectors.middleCols(first, columns) = phi;
+    result.max_minres_iterations = std::max(result.max_minres_iterations, report.iterations);
+    progress.advance(columns);
   }
 }
 
