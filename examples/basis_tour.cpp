@@ -11,6 +11,8 @@
 // printing progress bars on the way, and writes basis_tour.khzbasis (Kilohertz's checked
 // format), basis_tour.npy (NumPy: numpy.load) and basis_tour.mat (MATLAB: load), and
 // basis_tour_modes.vtu with the modes and the first basis vectors as point arrays for ParaView.
+#include "progress_bar.hpp"
+
 #include <khz/reduced/basis/modal_derivative_basis.hpp>
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/io/basis_export.hpp>
@@ -31,18 +33,6 @@
 namespace {
 
 namespace kr = khz::reduced;
-
-// A one-line text progress bar per stage.
-bool print_progress(const kr::Progress& progress) {
-  constexpr int width = 30;
-  const auto filled = static_cast<int>(std::lround(progress.fraction() * width));
-  std::cout << "\r  " << std::left << std::setw(22) << progress.stage << " ["
-            << std::string(static_cast<std::size_t>(filled), '#')
-            << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << progress.done
-            << "/" << progress.total << std::flush;
-  if (progress.done == progress.total) std::cout << "\n";
-  return true;  // never cancel
-}
 
 // 3n displacement vector → n×3 point array.
 Eigen::MatrixXd per_vertex(const Eigen::VectorXd& u) {
@@ -69,7 +59,7 @@ int main(int argc, char** argv) {
     const auto start = std::chrono::steady_clock::now();
     kr::LinearModesOptions mode_options;
     mode_options.num_modes = k;
-    mode_options.progress = print_progress;
+    mode_options.progress = khz::examples::print_progress;
     const kr::LinearModes modes = kr::compute_linear_modes(model, clamped, mode_options);
 
     // Euler–Bernoulli: f₁ = 1.8751² / (2π L²) · √(EI / ρA), I = a⁴/12, A = a².
@@ -82,14 +72,14 @@ int main(int argc, char** argv) {
     std::cout << "\n  (Euler–Bernoulli first bending: " << beam_f1 << " Hz)\n";
 
     kr::ModalDerivativesOptions derivative_options;
-    derivative_options.progress = print_progress;
+    derivative_options.progress = khz::examples::print_progress;
     const kr::ModalDerivatives derivatives =
         kr::compute_modal_derivatives(model, modes, derivative_options);
 
     const kr::SparseMatrix mass = model.mass_matrix();
     kr::PcaOptions pca;
     pca.basis_size = r;
-    pca.progress = print_progress;
+    pca.progress = khz::examples::print_progress;
     const kr::PcaResult reduced =
         kr::principal_components(kr::weighted_modal_samples(modes, derivatives, mass), mass, pca);
     const double seconds =

@@ -10,6 +10,8 @@
 // full nonlinear model, thins the deformations by mass distance and reduces them by mass-PCA
 // to r vectors (default 6), with progress bars. Finally it checks the basis on a load that
 // was not sketched and writes sketch_basis_tour.vtu with the basis vectors as point arrays.
+#include "progress_bar.hpp"
+
 #include <khz/reduced/basis/force_load.hpp>
 #include <khz/reduced/basis/sketch_basis.hpp>
 #include <khz/reduced/errors.hpp>
@@ -32,18 +34,6 @@
 namespace {
 
 namespace kr = khz::reduced;
-
-// A one-line text progress bar per stage.
-bool print_progress(const kr::Progress& progress) {
-  constexpr int width = 30;
-  const auto filled = static_cast<int>(std::lround(progress.fraction() * width));
-  std::cout << "\r  " << std::left << std::setw(22) << progress.stage << " ["
-            << std::string(static_cast<std::size_t>(filled), '#')
-            << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << progress.done
-            << "/" << progress.total << std::flush;
-  if (progress.done == progress.total) std::cout << "\n";
-  return true;  // never cancel
-}
 
 // Total force `total` (N) spread evenly over the given vertices.
 kr::ForceLoad spread_load(const std::vector<int>& vertices, const Eigen::Vector3d& total) {
@@ -113,7 +103,7 @@ int main(int argc, char** argv) {
     // load step with it, and took 39 iterations in all without it).
     options.static_solve.line_search = false;
     options.basis_size = r;
-    options.progress = print_progress;
+    options.progress = khz::examples::print_progress;
     const auto start = std::chrono::steady_clock::now();
     kr::SketchReport report;
     const kr::Basis basis = kr::sketch_basis(model, clamped, loads, options, report);

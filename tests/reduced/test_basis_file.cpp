@@ -3,6 +3,7 @@
 #include <khz/reduced/io/binary_container.hpp>
 #include <khz/reduced/io/mesh_fingerprint.hpp>
 #include <khz/reduced/meshing/box_mesh.hpp>
+#include <khz/test/allocation_probe.hpp>
 #include <khz/test/fixtures.hpp>
 
 #include <gtest/gtest.h>
@@ -19,27 +20,6 @@
 #include <random>
 #include <string>
 #include <vector>
-
-namespace {
-// Largest single request to operator new since the last reset: lets a test prove that a
-// hostile size field is rejected before anything sized by it is allocated.
-std::atomic<std::size_t> largest_allocation{0};
-}  // namespace
-
-// This replacement pairs malloc with free; GCC cannot see that the delete below only ever
-// receives pointers from this new, and warns at -O1 and above.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t size) {
-  std::size_t seen = largest_allocation.load();
-  while (size > seen && !largest_allocation.compare_exchange_weak(seen, size)) {
-  }
-  if (void* memory = std::malloc(size == 0 ? 1 : size)) return memory;
-  throw std::bad_alloc();
-}
-void operator delete(void* memory) noexcept { std::free(memory); }
-void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
-#pragma GCC diagnostic pop
 
 namespace khz::reduced {
 namespace {
@@ -438,10 +418,10 @@ TEST(BasisFile, RejectsAbsurdSizeFieldsWithoutAllocating) {
     ForgedBasis forged;
     c.forge(forged);
     const std::filesystem::path file = forged.file();
-    largest_allocation = 0;
+    test::largest_allocation = 0;
     EXPECT_TRUE(test::throws_with_message([&] { read_basis(file, box()); },
                                           file.string() + ": " + c.message));
-    EXPECT_LT(largest_allocation.load(), std::size_t{1} << 20);
+    EXPECT_LT(test::largest_allocation.load(), std::size_t{1} << 20);
   }
 }
 

@@ -1,5 +1,6 @@
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/io/ply.hpp>
+#include <khz/test/allocation_probe.hpp>
 #include <khz/test/fixtures.hpp>
 #include <khz/test/generated_meshes.hpp>
 
@@ -13,27 +14,6 @@
 #include <filesystem>
 #include <new>
 #include <string>
-
-namespace {
-// Largest single request to operator new since the last reset: lets a test prove that a
-// hostile header is rejected before anything sized by it is allocated.
-std::atomic<std::size_t> largest_allocation{0};
-}  // namespace
-
-// This replacement pairs malloc with free; GCC cannot see that the delete below only ever
-// receives pointers from this new, and warns at -O1 and above.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t size) {
-  std::size_t seen = largest_allocation.load();
-  while (size > seen && !largest_allocation.compare_exchange_weak(seen, size)) {
-  }
-  if (void* memory = std::malloc(size == 0 ? 1 : size)) return memory;
-  throw std::bad_alloc();
-}
-void operator delete(void* memory) noexcept { std::free(memory); }
-void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
-#pragma GCC diagnostic pop
 
 namespace khz::reduced {
 namespace {
@@ -178,16 +158,16 @@ TEST(Ply, HostileHeaderIsRejectedBeforeAnythingSizedByItIsAllocated) {
   const auto file = test::test_file("malformed/ply/hostile_count_binary.ply");
   const std::string bytes = test::read_bytes(file);
   ASSERT_LT(bytes.size(), 256u);
-  largest_allocation = 0;
+  test::largest_allocation = 0;
   EXPECT_TRUE(test::throws_with_message([&] { parse_ply(bytes, file.string()); },
                                         "header declares 2147483647 'vertex' elements"));
-  EXPECT_LT(largest_allocation.load(), 4096u);
+  EXPECT_LT(test::largest_allocation.load(), 4096u);
 
   // Control: the counter does see the parser's allocations for a genuine 1986-vertex file.
   const std::string sphere = format_ply(test::uv_sphere(64, 32));
-  largest_allocation = 0;
+  test::largest_allocation = 0;
   EXPECT_EQ(parse_ply(sphere, "sphere.ply").num_vertices(), 1986);
-  EXPECT_GT(largest_allocation.load(), 1986u * 3u * sizeof(double) - 1u);
+  EXPECT_GT(test::largest_allocation.load(), 1986u * 3u * sizeof(double) - 1u);
 }
 
 TEST(Ply, RejectsEveryMalformedCorpusFile) {
