@@ -11,6 +11,7 @@
 // printing progress bars on the way, and writes basis_tour.khzbasis (Kilohertz's checked
 // format), basis_tour.npy (NumPy: numpy.load) and basis_tour.mat (MATLAB: load), and
 // basis_tour_modes.vtu with the modes and the first basis vectors as point arrays for ParaView.
+#include "point_array.hpp"
 #include "progress_bar.hpp"
 
 #include <khz/reduced/basis/modal_derivative_basis.hpp>
@@ -33,12 +34,6 @@
 namespace {
 
 namespace kr = khz::reduced;
-
-// 3n displacement vector → n×3 point array.
-Eigen::MatrixXd per_vertex(const Eigen::VectorXd& u) {
-  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
-      u.data(), u.size() / 3, 3);
-}
 
 }  // namespace
 
@@ -103,11 +98,12 @@ int main(int argc, char** argv) {
     kr::write_basis_mat("basis_tour.mat", basis);
     kr::VtkFields fields;
     for (Eigen::Index i = 0; i < k; ++i) {
-      fields.point_data.push_back({"mode" + std::to_string(i + 1), per_vertex(modes.modes.col(i))});
+      fields.point_data.push_back(
+          {"mode" + std::to_string(i + 1), khz::examples::per_vertex(modes.modes.col(i))});
     }
     for (Eigen::Index i = 0; i < std::min<Eigen::Index>(r, 6); ++i) {
       fields.point_data.push_back(
-          {"basis" + std::to_string(i + 1), per_vertex(basis.vectors.col(i))});
+          {"basis" + std::to_string(i + 1), khz::examples::per_vertex(basis.vectors.col(i))});
     }
     kr::write_volume_mesh("basis_tour_modes.vtu", model.mesh(), fields);
     std::cout

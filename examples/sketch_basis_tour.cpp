@@ -10,6 +10,7 @@
 // full nonlinear model, thins the deformations by mass distance and reduces them by mass-PCA
 // to r vectors (default 6), with progress bars. Finally it checks the basis on a load that
 // was not sketched and writes sketch_basis_tour.vtu with the basis vectors as point arrays.
+#include "point_array.hpp"
 #include "progress_bar.hpp"
 
 #include <khz/reduced/basis/force_load.hpp>
@@ -55,12 +56,6 @@ std::vector<kr::ForceLoad> recorded_drags(const std::vector<int>& tip, double pe
     }
   }
   return loads;
-}
-
-// 3n displacement vector → n×3 point array.
-Eigen::MatrixXd per_vertex(const Eigen::VectorXd& u) {
-  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
-      u.data(), u.size() / 3, 3);
 }
 
 }  // namespace
@@ -137,9 +132,9 @@ int main(int argc, char** argv) {
     kr::VtkFields fields;
     for (Eigen::Index i = 0; i < basis.size(); ++i) {
       fields.point_data.push_back(
-          {"basis" + std::to_string(i + 1), per_vertex(basis.vectors.col(i))});
+          {"basis" + std::to_string(i + 1), khz::examples::per_vertex(basis.vectors.col(i))});
     }
-    fields.point_data.push_back({"check_load_shape", per_vertex(u)});
+    fields.point_data.push_back({"check_load_shape", khz::examples::per_vertex(u)});
     kr::write_volume_mesh("sketch_basis_tour.vtu", model.mesh(), fields);
     std::cout << "wrote sketch_basis_tour.vtu\n";
   } catch (const khz::reduced::Error& error) {
