@@ -247,8 +247,7 @@ struct FemModel::Data {
 
   /// ∫ρ φ_a φ_b dV of a slot's element (thesis eq. 2.49), without the I₃ factor.
   template <int N>
-  Eigen::Matrix<double, N, N> element_mass(int slot) const {
-    const double density = material(slot).density();
+  Eigen::Matrix<double, N, N> element_mass(int slot, double density) const {
     if constexpr (N == 4) {
       // Exact for linear shape functions: ∫φ_a φ_b dV = V/20 (1 + δ_ab). The one-point rule the
       // stiffness uses would not integrate this quadratic.
@@ -265,13 +264,16 @@ struct FemModel::Data {
     }
   }
 
+  /// The mass matrix; with `unit_density_group` ≥ 0, only that group's elements at density 1.
   template <int N>
-  SparseMatrix mass_matrix(MassLumping lumping) const {
+  SparseMatrix mass_matrix(MassLumping lumping, int unit_density_group) const {
     std::vector<Eigen::Triplet<double, int>> triplets;
     triplets.reserve(static_cast<std::size_t>(num_slots()) * 3 *
                      (lumping == MassLumping::consistent ? N * N : N));
     for (int slot = 0; slot < num_slots(); ++slot) {
-      const Eigen::Matrix<double, N, N> mass = element_mass<N>(slot);
+      if (unit_density_group >= 0 && slot_material[slot] != unit_density_group) continue;
+      const Eigen::Matrix<double, N, N> mass =
+          element_mass<N>(slot, unit_density_group >= 0 ? 1.0 : material(slot).density());
       for (int a = 0; a < N; ++a) {
         const int row = 3 * slot_nodes(slot, a);
         if (lumping == MassLumping::lumped) {
@@ -354,8 +356,20 @@ double FemModel::quadrature_weight(Eigen::Index element, int q) const noexcept {
 }
 
 SparseMatrix FemModel::mass_matrix(MassLumping lumping) const {
-  return with_node_count(m_data->mesh.element_type,
-                         [&](auto n) { return m_data->mass_matrix<decltype(n)::value>(lumping); });
+  return with_node_count(m_data->mesh.element_type, [&](auto n) {
+    return m_data->mass_matrix<decltype(n)::value>(lumping, -1);
+  });
+}
+
+SparseMatrix FemModel::unit_density_mass_matrix(int group, MassLumping lumping) const {
+  if (group < 0 || group >= static_cast<int>(m_data->materials.size())) {
+    throw Error("unit_density_mass_matrix: group " + std::to_string(group) +
+                " is not one of the model's " + std::to_string(m_data->materials.size()) +
+                " material groups");
+  }
+  return with_node_count(m_data->mesh.element_type, [&](auto n) {
+    return m_data->mass_matrix<decltype(n)::value>(lumping, group);
+  });
 }
 
 double FemModel::strain_energy(const Eigen::VectorXd& u) const {

@@ -65,6 +65,11 @@ class KHZ_REDUCED_API FemModel {
 
   /// Mass matrix (kg), 3n×3n.
   SparseMatrix mass_matrix(MassLumping lumping = MassLumping::consistent) const;
+  /// The mass matrix of material group g's elements alone at unit density (m³, i.e. kg per
+  /// kg/m³): mass_matrix() = Σ_g ρ_g · unit_density_mass_matrix(g), which lets reduced models
+  /// change densities at runtime (thesis §2.11). @throws Error if g is not a group index.
+  SparseMatrix unit_density_mass_matrix(int group,
+                                        MassLumping lumping = MassLumping::consistent) const;
 
   /// Strain energy ∫ ½ E:C:E dV (J) of displacement u.
   double strain_energy(const Eigen::VectorXd& u) const;
