@@ -81,6 +81,7 @@ void strain_monomials(
 }
 
 void flush(ThreadWork& work) {
+  if (work.pending == 0) return;  // Eigen's blocking heuristic divides by the update's depth
   for (std::size_t part = 0; part < work.rows.size(); ++part) {
     const Eigen::Index columns = work.pending * work.rows[part].cols() / points_per_block;
     work.sums[part].selfadjointView<Eigen::Lower>().rankUpdate(work.rows[part].leftCols(columns));
