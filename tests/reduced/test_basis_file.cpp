@@ -452,14 +452,14 @@ TEST(BasisFile, RejectsInconsistentValuesAtTheirOffsets) {
          f.writer().write_ints({});
          f.writer().write_matrix(Eigen::MatrixXd::Zero(47, 1));
        },
-       "byte 66: U is 47×1, the header says 48×1"},
+       "byte 66: U is 47×1, expected 48×1 (3n × r from the header)"},
       {"r mismatch",
        [](ForgedBasis& f) {
          f.valid_header(16, 2);
          f.writer().write_ints({});
          f.writer().write_matrix(Eigen::MatrixXd::Zero(48, 1));
        },
-       "byte 66: U is 48×1, the header says 48×2"},
+       "byte 66: U is 48×1, expected 48×2 (3n × r from the header)"},
       {"non-finite entry",
        [](ForgedBasis& f) {
          f.valid_header();

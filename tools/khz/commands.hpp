@@ -5,8 +5,9 @@
 
 namespace khz::tool {
 
-/// `khz info FILE`: describes a mesh file (counts, bounds, topology checks) or a basis file
-/// (format version, n, r, mesh fingerprint, recipe, size).
+/// `khz info FILE`: describes a mesh file (counts, bounds, topology checks), a basis file
+/// (format version, n, r, mesh fingerprint, recipe, size) or a reduced model file (the same, plus
+/// the material groups and integrator defaults).
 void add_info_command(CLI::App& app);
 /// `khz convert IN OUT`: converts between mesh formats, chosen by extension.
 void add_convert_command(CLI::App& app);
@@ -17,5 +18,7 @@ void add_repair_command(CLI::App& app);
 bool is_volume_mesh_file(const std::string& path);
 /// True if `path` has the basis file extension (.khzbasis).
 bool is_basis_file(const std::string& path);
+/// True if `path` has the reduced model file extension (.khzmodel).
+bool is_reduced_model_file(const std::string& path);
 
 }  // namespace khz::tool

@@ -1,6 +1,6 @@
 #pragma once
 // Checked binary container: the versioned, checksummed envelope of Kilohertz's own binary files
-// (basis files today; reduced models and distance fields later).
+// (basis files and reduced models today; distance fields later).
 //
 // Layout, every number little-endian:
 //
