@@ -1,0 +1,180 @@
+#include <khz/reduced/errors.hpp>
+#include <khz/reduced/solvers/newmark_parameters.hpp>
+#include <khz/reduced/subspace/central_differences.hpp>
+
+#include "subspace/dense_symmetric_solve.hpp"
+#include "subspace/reduced_state.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace khz::reduced {
+
+void ReducedCentralDifferencesOptions::validate() const {
+  // Same ranges as the implicit integrator's parameters, at β̃ = 0, γ̃ = ½.
+  NewmarkParameters{time_step, 0.0, 0.5, mass_damping, stiffness_damping}.validate();
+}
+
+struct ReducedCentralDifferences::Data {
+  Data(ReducedForceModel& model, const Eigen::MatrixXd& mass,
+       const ReducedCentralDifferencesOptions& opts)
+      : options(opts),
+        state(model, mass, "ReducedCentralDifferences"),
+        solver(model.dimension()),
+        forces(model.dimension()),
+        stiffness(model.dimension(), model.dimension()),
+        system(model.dimension(), model.dimension()),
+        next(model.dimension()),
+        predicted_velocity(model.dimension()),
+        acceleration(model.dimension()),
+        velocity(model.dimension()) {}
+
+  ReducedCentralDifferencesOptions options;
+  detail::ReducedState state;
+  detail::DenseSymmetricSolver solver;  // M̃ + ½Δt C̃ when β > 0
+  Eigen::VectorXd forces;               // R̃(q_{n+1})
+  Eigen::MatrixXd stiffness;            // K̃(q_{n+1}), when β > 0
+  Eigen::MatrixXd system;               // M̃ + ½Δt C̃, when β > 0
+  Eigen::VectorXd next;                 // q_{n+1}
+  Eigen::VectorXd predicted_velocity;   // q̇_n + ½Δt q̈_n
+  Eigen::VectorXd acceleration;         // q̈_{n+1}
+  Eigen::VectorXd velocity;             // q̇_{n+1}
+};
+
+ReducedCentralDifferences::ReducedCentralDifferences(
+    ReducedForceModel& forces, const Eigen::MatrixXd& mass,
+    const ReducedCentralDifferencesOptions& options) {
+  options.validate();
+  m_data = std::make_unique<Data>(forces, mass, options);
+}
+ReducedCentralDifferences::~ReducedCentralDifferences() = default;
+ReducedCentralDifferences::ReducedCentralDifferences(ReducedCentralDifferences&&) noexcept =
+    default;
+ReducedCentralDifferences& ReducedCentralDifferences::operator=(
+    ReducedCentralDifferences&&) noexcept = default;
+
+void ReducedCentralDifferences::set_state(const Eigen::VectorXd& coordinates,
+                                          const Eigen::VectorXd& velocity,
+                                          const Eigen::VectorXd& acceleration) {
+  m_data->state.set_state(coordinates, velocity, acceleration);
+}
+
+void ReducedCentralDifferences::set_state_in_equilibrium(const Eigen::VectorXd& coordinates,
+                                                         const Eigen::VectorXd& velocity,
+                                                         const Eigen::VectorXd& external_force) {
+  const ReducedCentralDifferencesOptions& o = m_data->options;
+  m_data->state.set_state_in_equilibrium(coordinates, velocity, external_force, o.mass_damping,
+                                         o.stiffness_damping);
+}
+
+void ReducedCentralDifferences::set_mass(const Eigen::MatrixXd& mass) {
+  m_data->state.set_mass(mass);
+}
+
+ReducedStepReport ReducedCentralDifferences::step(
+    const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
+  Data& d = *m_data;
+  detail::ReducedState& s = d.state;
+  ReducedStepReport report;
+  assert(external_force.size() == s.q.size() && "external force must have r entries");
+  if (external_force.size() != s.q.size() || !external_force.allFinite()) return report;
+
+  const double h = d.options.time_step;
+  const double alpha = d.options.mass_damping;
+  const double beta = d.options.stiffness_damping;
+  // Newmark with β̃ = 0, γ̃ = ½ (thesis §2.9.1): the displacement is explicit.
+  d.next = s.q + h * s.velocity + (0.5 * h * h) * s.acceleration;
+  d.predicted_velocity = s.velocity + (0.5 * h) * s.acceleration;
+  // Equation of motion at n+1 with q̇_{n+1} = predicted + ½Δt q̈_{n+1}:
+  // (M̃ + ½Δt C̃) q̈_{n+1} = f̃ − R̃ − C̃ · predicted.
+  if (beta > 0.0) {
+    s.forces.evaluate(d.next, d.forces, d.stiffness);
+    if (!d.forces.allFinite() || !d.stiffness.allFinite()) return report;
+    d.acceleration = external_force - d.forces;
+    d.acceleration.noalias() -= alpha * (s.mass * d.predicted_velocity);
+    d.acceleration.noalias() -= beta * (d.stiffness * d.predicted_velocity);
+    d.system = (1.0 + 0.5 * h * alpha) * s.mass;
+    d.system += (0.5 * h * beta) * d.stiffness;
+    const detail::DenseSolve solve = d.solver.solve_in_place(d.system, d.acceleration);
+    if (solve == detail::DenseSolve::failed) return report;
+    report.fallback_solve = solve == detail::DenseSolve::eigen_fallback;
+  } else {
+    s.forces.evaluate_forces(d.next, d.forces);
+    if (!d.forces.allFinite()) return report;
+    // C̃ = αM̃: the system matrix (1 + ½Δtα) M̃ reuses the mass factor.
+    d.acceleration = external_force - d.forces;
+    d.acceleration.noalias() -= alpha * (s.mass * d.predicted_velocity);
+    s.mass_factor.solveInPlace(d.acceleration);
+    d.acceleration /= 1.0 + 0.5 * h * alpha;
+  }
+  d.velocity = d.predicted_velocity + (0.5 * h) * d.acceleration;
+  if (!d.next.allFinite() || !d.velocity.allFinite() || !d.acceleration.allFinite()) {
+    return report;
+  }
+  s.q = d.next;
+  s.velocity = d.velocity;
+  s.acceleration = d.acceleration;
+  s.steps += 1;
+  report.status = ReducedStepStatus::converged;
+  return report;
+}
+
+Eigen::Index ReducedCentralDifferences::dimension() const noexcept {
+  return m_data->state.q.size();
+}
+const Eigen::VectorXd& ReducedCentralDifferences::coordinates() const noexcept {
+  return m_data->state.q;
+}
+const Eigen::VectorXd& ReducedCentralDifferences::velocity() const noexcept {
+  return m_data->state.velocity;
+}
+const Eigen::VectorXd& ReducedCentralDifferences::acceleration() const noexcept {
+  return m_data->state.acceleration;
+}
+const Eigen::MatrixXd& ReducedCentralDifferences::mass() const noexcept {
+  return m_data->state.mass;
+}
+const ReducedCentralDifferencesOptions& ReducedCentralDifferences::options() const noexcept {
+  return m_data->options;
+}
+double ReducedCentralDifferences::time() const noexcept {
+  return static_cast<double>(m_data->state.steps) * m_data->options.time_step;
+}
+double ReducedCentralDifferences::kinetic_energy() const noexcept {
+  return m_data->state.kinetic_energy();
+}
+double ReducedCentralDifferences::strain_energy() const noexcept {
+  return m_data->state.strain_energy();
+}
+
+double reduced_critical_time_step(ReducedForceModel& forces, const Eigen::MatrixXd& mass,
+                                  const Eigen::VectorXd& q) {
+  const Eigen::Index r = forces.dimension();
+  const std::string owner = "reduced_critical_time_step";
+  if (r < 1) throw Error(owner + ": the force model has no reduced coordinates");
+  detail::factor_reduced_mass(mass, r, owner);
+  if (q.size() != 0 && q.size() != r) {
+    throw Error(owner + ": q must have " + std::to_string(r) +
+                " entries (or none for q = 0), got " + std::to_string(q.size()));
+  }
+  if (!q.allFinite()) throw Error(owner + ": q is not finite");
+  const Eigen::VectorXd at = q.size() == 0 ? Eigen::VectorXd::Zero(r) : q;
+  Eigen::VectorXd internal(r);
+  Eigen::MatrixXd stiffness(r, r);
+  forces.evaluate(at, internal, stiffness);
+  if (!stiffness.allFinite()) throw SolverError(owner + ": the stiffness K̃(q) is not finite");
+  // K̃ x = ω² M̃ x; its largest eigenvalue is ω_max².
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eigen(stiffness, mass,
+                                                                        Eigen::EigenvaluesOnly);
+  if (eigen.info() != Eigen::Success) {
+    throw SolverError(owner + ": the eigenvalues of K̃(q) x = ω² M̃ x did not converge");
+  }
+  const double largest = eigen.eigenvalues().maxCoeff();
+  return largest > 0.0 ? 2.0 / std::sqrt(largest) : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace khz::reduced

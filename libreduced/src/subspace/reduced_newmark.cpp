@@ -1,0 +1,181 @@
+#include <khz/reduced/errors.hpp>
+#include <khz/reduced/subspace/reduced_newmark.hpp>
+
+#include "subspace/dense_symmetric_solve.hpp"
+#include "subspace/reduced_state.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <string>
+
+namespace khz::reduced {
+
+void ReducedNewmarkOptions::validate() const {
+  NewmarkConstants::from(newmark);  // throws for invalid parameters and β̃ = 0
+  if (max_newton_iterations < 1) {
+    throw Error("ReducedNewmark: max_newton_iterations must be at least 1, got " +
+                std::to_string(max_newton_iterations));
+  }
+  if (!(tolerance > 0) || !std::isfinite(tolerance)) {
+    throw Error("ReducedNewmark: tolerance must be positive and finite, got " +
+                std::to_string(tolerance));
+  }
+  if (!(acceleration_limit > 0)) {
+    throw Error(
+        "ReducedNewmark: acceleration_limit must be positive (+infinity disables it), got " +
+        std::to_string(acceleration_limit));
+  }
+}
+
+struct ReducedNewmark::Data {
+  Data(ReducedForceModel& model, const Eigen::MatrixXd& mass, const ReducedNewmarkOptions& opts)
+      : options(opts),
+        constants(NewmarkConstants::from(opts.newmark)),
+        state(model, mass, "ReducedNewmark"),
+        solver(model.dimension()),
+        forces(model.dimension()),
+        stiffness(model.dimension(), model.dimension()),
+        system(model.dimension(), model.dimension()),
+        next(model.dimension()),
+        increment(model.dimension()),
+        velocity(model.dimension()),
+        acceleration(model.dimension()),
+        residual(model.dimension()),
+        work(model.dimension()) {}
+
+  /// The scale s of §3.10.2 for this step (1 when the acceleration is within the limit), from the
+  /// forces and stiffness evaluated at q_i.
+  double acceleration_scale(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept;
+
+  ReducedNewmarkOptions options;
+  NewmarkConstants constants;
+  detail::ReducedState state;
+  detail::DenseSymmetricSolver solver;
+  Eigen::VectorXd forces;                  // R̃(q_{i+1})
+  Eigen::MatrixXd stiffness;               // K̃(q_{i+1})
+  Eigen::MatrixXd system;                  // A
+  Eigen::VectorXd next;                    // q_{i+1}
+  Eigen::VectorXd increment;               // Δq = q_{i+1} − q_i
+  Eigen::VectorXd velocity, acceleration;  // q̇_{i+1}, q̈_{i+1} of the current iterate
+  Eigen::VectorXd residual;                // then the Newton update
+  Eigen::VectorXd work;
+};
+
+double ReducedNewmark::Data::acceleration_scale(
+    const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
+  const NewmarkParameters& p = options.newmark;
+  // Thesis §3.10.2: q̈ = M̃⁻¹(f̃ − D̃(q, q̇) − R̃(q)) at the current state, D̃ = C̃(q) q̇.
+  work = external_force - forces;
+  work.noalias() -= p.mass_damping * (state.mass * state.velocity);
+  work.noalias() -= p.stiffness_damping * (stiffness * state.velocity);
+  state.mass_factor.solveInPlace(work);
+  const double norm = work.norm();
+  // A non-finite norm is left to the residual test, which then fails the step.
+  return norm > options.acceleration_limit ? options.acceleration_limit / norm : 1.0;
+}
+
+ReducedNewmark::ReducedNewmark(ReducedForceModel& forces, const Eigen::MatrixXd& mass,
+                               const ReducedNewmarkOptions& options) {
+  options.validate();
+  m_data = std::make_unique<Data>(forces, mass, options);
+}
+ReducedNewmark::~ReducedNewmark() = default;
+ReducedNewmark::ReducedNewmark(ReducedNewmark&&) noexcept = default;
+ReducedNewmark& ReducedNewmark::operator=(ReducedNewmark&&) noexcept = default;
+
+void ReducedNewmark::set_state(const Eigen::VectorXd& coordinates, const Eigen::VectorXd& velocity,
+                               const Eigen::VectorXd& acceleration) {
+  m_data->state.set_state(coordinates, velocity, acceleration);
+}
+
+void ReducedNewmark::set_state_in_equilibrium(const Eigen::VectorXd& coordinates,
+                                              const Eigen::VectorXd& velocity,
+                                              const Eigen::VectorXd& external_force) {
+  const NewmarkParameters& p = m_data->options.newmark;
+  m_data->state.set_state_in_equilibrium(coordinates, velocity, external_force, p.mass_damping,
+                                         p.stiffness_damping);
+}
+
+void ReducedNewmark::set_mass(const Eigen::MatrixXd& mass) { m_data->state.set_mass(mass); }
+
+ReducedStepReport ReducedNewmark::step(
+    const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
+  Data& d = *m_data;
+  detail::ReducedState& s = d.state;
+  ReducedStepReport report;
+  assert(external_force.size() == s.q.size() && "external force must have r entries");
+  if (external_force.size() != s.q.size() || !external_force.allFinite()) return report;
+
+  const NewmarkConstants& c = d.constants;
+  const NewmarkParameters& p = d.options.newmark;
+  double scale = 1.0;  // of the forces, by the acceleration limit (§3.10.2)
+  double tolerance = 0.0;
+  bool converged = false;
+  d.next = s.q;  // line 1
+  for (int j = 0; j < d.options.max_newton_iterations; ++j) {
+    s.forces.evaluate(d.next, d.forces, d.stiffness);  // lines 3-4
+    if (!d.forces.allFinite() || !d.stiffness.allFinite()) return report;
+    if (j == 0) {
+      if (std::isfinite(d.options.acceleration_limit)) {
+        scale = d.acceleration_scale(external_force);
+        report.acceleration_limited = scale < 1.0;
+      }
+      d.work.noalias() = s.mass * s.acceleration;
+      tolerance = d.options.tolerance * std::max({scale * external_force.norm(),
+                                                  scale * d.forces.norm(), d.work.norm(), 1e-12});
+    }
+    d.increment = d.next - s.q;
+    d.acceleration = c.alpha1 * d.increment - c.alpha2 * s.velocity - c.alpha3 * s.acceleration;
+    d.velocity = c.alpha4 * d.increment + c.alpha5 * s.velocity + c.alpha6 * s.acceleration;
+    // Lines 8-9: M̃ q̈ + s (C̃ q̇ + R̃ − f̃) with C̃ = αM̃ + βK̃ (lines 5-6), s = 1 unless limited.
+    d.work = d.acceleration + (scale * p.mass_damping) * d.velocity;
+    d.residual.noalias() = s.mass * d.work;
+    d.residual.noalias() += (scale * p.stiffness_damping) * (d.stiffness * d.velocity);
+    d.residual += scale * (d.forces - external_force);
+    report.residual_norm = d.residual.norm();
+    if (!std::isfinite(report.residual_norm)) return report;
+    if (report.residual_norm <= tolerance) {  // lines 10-11
+      converged = true;
+      break;
+    }
+    // Line 7: A = α1 M̃ + s (α4 C̃ + K̃) = (α1 + s α4 α) M̃ + s (1 + α4 β) K̃.
+    d.system = (c.alpha1 + scale * c.alpha4 * p.mass_damping) * s.mass;
+    d.system += (scale * (1.0 + c.alpha4 * p.stiffness_damping)) * d.stiffness;
+    d.residual = -d.residual;  // lines 12-13: A δ = −residual
+    const detail::DenseSolve solve = d.solver.solve_in_place(d.system, d.residual);
+    if (solve == detail::DenseSolve::failed) return report;
+    report.fallback_solve |= solve == detail::DenseSolve::eigen_fallback;
+    d.next += d.residual;  // line 14
+    report.iterations = j + 1;
+  }
+  // Lines 15-16.
+  d.increment = d.next - s.q;
+  d.velocity = c.alpha4 * d.increment + c.alpha5 * s.velocity + c.alpha6 * s.acceleration;
+  d.acceleration = c.alpha1 * d.increment - c.alpha2 * s.velocity - c.alpha3 * s.acceleration;
+  if (!d.next.allFinite() || !d.velocity.allFinite() || !d.acceleration.allFinite()) {
+    return report;
+  }
+  s.q = d.next;
+  s.velocity = d.velocity;
+  s.acceleration = d.acceleration;
+  s.steps += 1;
+  report.status = converged ? ReducedStepStatus::converged : ReducedStepStatus::iteration_limit;
+  return report;
+}
+
+Eigen::Index ReducedNewmark::dimension() const noexcept { return m_data->state.q.size(); }
+const Eigen::VectorXd& ReducedNewmark::coordinates() const noexcept { return m_data->state.q; }
+const Eigen::VectorXd& ReducedNewmark::velocity() const noexcept { return m_data->state.velocity; }
+const Eigen::VectorXd& ReducedNewmark::acceleration() const noexcept {
+  return m_data->state.acceleration;
+}
+const Eigen::MatrixXd& ReducedNewmark::mass() const noexcept { return m_data->state.mass; }
+const ReducedNewmarkOptions& ReducedNewmark::options() const noexcept { return m_data->options; }
+double ReducedNewmark::time() const noexcept {
+  return static_cast<double>(m_data->state.steps) * m_data->options.newmark.time_step;
+}
+double ReducedNewmark::kinetic_energy() const noexcept { return m_data->state.kinetic_energy(); }
+double ReducedNewmark::strain_energy() const noexcept { return m_data->state.strain_energy(); }
+
+}  // namespace khz::reduced

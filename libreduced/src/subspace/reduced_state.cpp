@@ -1,0 +1,104 @@
+#include "subspace/reduced_state.hpp"
+
+#include <khz/reduced/errors.hpp>
+
+#include <cmath>
+#include <utility>
+
+namespace khz::reduced::detail {
+
+Eigen::LLT<Eigen::MatrixXd> factor_reduced_mass(const Eigen::MatrixXd& mass, Eigen::Index r,
+                                                const std::string& owner) {
+  if (mass.rows() != r || mass.cols() != r) {
+    throw Error(owner + ": the reduced mass matrix must be " + std::to_string(r) + "×" +
+                std::to_string(r) + ", got " + std::to_string(mass.rows()) + "×" +
+                std::to_string(mass.cols()));
+  }
+  if (!mass.allFinite()) throw Error(owner + ": the reduced mass matrix has non-finite entries");
+  const double largest = mass.cwiseAbs().maxCoeff();
+  for (Eigen::Index j = 0; j < r; ++j) {
+    for (Eigen::Index i = j + 1; i < r; ++i) {
+      if (std::abs(mass(i, j) - mass(j, i)) > 1e-12 * largest) {
+        throw Error(owner + ": the reduced mass matrix is not symmetric (entries (" +
+                    std::to_string(i) + ", " + std::to_string(j) + ") and (" + std::to_string(j) +
+                    ", " + std::to_string(i) + ") differ)");
+      }
+    }
+  }
+  Eigen::LLT<Eigen::MatrixXd> factor(mass);
+  if (factor.info() != Eigen::Success) {
+    throw Error(owner + ": the reduced mass matrix is not positive definite");
+  }
+  return factor;
+}
+
+ReducedState::ReducedState(ReducedForceModel& model, const Eigen::MatrixXd& reduced_mass,
+                           std::string owner_name)
+    : forces(model), owner(std::move(owner_name)) {
+  const Eigen::Index r = forces.dimension();
+  if (r < 1) throw Error(owner + ": the force model has no reduced coordinates");
+  mass_factor = factor_reduced_mass(reduced_mass, r, owner);
+  mass = reduced_mass;
+  q = Eigen::VectorXd::Zero(r);
+  velocity = q;
+  acceleration = q;
+}
+
+void ReducedState::set_state(const Eigen::VectorXd& coordinates, const Eigen::VectorXd& v,
+                             const Eigen::VectorXd& a) {
+  for (const Eigen::VectorXd* vector : {&coordinates, &v, &a}) {
+    if (vector->size() != q.size()) {
+      throw Error(owner + "::set_state: expected vectors of " + std::to_string(q.size()) +
+                  " entries, got " + std::to_string(vector->size()));
+    }
+    if (!vector->allFinite()) throw Error(owner + "::set_state: non-finite state");
+  }
+  q = coordinates;
+  velocity = v;
+  acceleration = a;
+}
+
+void ReducedState::set_state_in_equilibrium(const Eigen::VectorXd& coordinates,
+                                            const Eigen::VectorXd& v,
+                                            const Eigen::VectorXd& external_force,
+                                            double mass_damping, double stiffness_damping) {
+  const Eigen::Index r = q.size();
+  for (const Eigen::VectorXd* vector : {&coordinates, &v, &external_force}) {
+    if (vector->size() != r) {
+      throw Error(owner + "::set_state_in_equilibrium: expected vectors of " + std::to_string(r) +
+                  " entries, got " + std::to_string(vector->size()));
+    }
+    if (!vector->allFinite()) throw Error(owner + "::set_state_in_equilibrium: non-finite input");
+  }
+  Eigen::VectorXd internal(r);
+  Eigen::MatrixXd stiffness(r, r);
+  forces.evaluate(coordinates, internal, stiffness);
+  // M̃ q̈ = f̃ − R̃(q) − (αM̃ + βK̃(q)) q̇
+  const Eigen::VectorXd net =
+      external_force - internal - mass_damping * (mass * v) - stiffness_damping * (stiffness * v);
+  const Eigen::VectorXd a = mass_factor.solve(net);
+  if (!a.allFinite()) {
+    throw SolverError(owner +
+                      "::set_state_in_equilibrium: the force model returned non-finite values");
+  }
+  q = coordinates;
+  velocity = v;
+  acceleration = a;
+}
+
+void ReducedState::set_mass(const Eigen::MatrixXd& reduced_mass) {
+  mass_factor = factor_reduced_mass(reduced_mass, q.size(), owner + "::set_mass");
+  mass = reduced_mass;
+}
+
+double ReducedState::kinetic_energy() const noexcept {
+  double twice = 0.0;
+  for (Eigen::Index j = 0; j < velocity.size(); ++j) {
+    twice += velocity(j) * mass.col(j).dot(velocity);
+  }
+  return 0.5 * twice;
+}
+
+double ReducedState::strain_energy() const noexcept { return forces.energy(q); }
+
+}  // namespace khz::reduced::detail
