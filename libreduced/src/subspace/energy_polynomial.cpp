@@ -48,8 +48,9 @@ void EnergyPolynomial::validate() const {
   if (!quadratic.allFinite() || !cubic.allFinite() || !quartic.allFinite()) {
     throw Error("EnergyPolynomial: a coefficient is not finite");
   }
+  if (r == 0) return;
   const double scale = quadratic.cwiseAbs().maxCoeff();
-  if (r > 0 && (quadratic - quadratic.transpose()).cwiseAbs().maxCoeff() > 1e-12 * scale) {
+  if ((quadratic - quadratic.transpose()).cwiseAbs().maxCoeff() > 1e-12 * scale) {
     throw Error("EnergyPolynomial: the quadratic part is not symmetric");
   }
 }

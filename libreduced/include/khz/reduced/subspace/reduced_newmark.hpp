@@ -1,0 +1,118 @@
+#pragma once
+// The implicit Newmark subspace integrator (thesis §2.9): the reduced model's runtime time
+// stepping.
+
+#include <khz/reduced/export.hpp>
+#include <khz/reduced/solvers/newmark_parameters.hpp>
+#include <khz/reduced/subspace/reduced_forces.hpp>
+#include <khz/reduced/subspace/reduced_step_report.hpp>
+
+#include <Eigen/Core>
+
+#include <limits>
+#include <memory>
+
+namespace khz::reduced {
+
+/// Options of ReducedNewmark.
+struct KHZ_REDUCED_API ReducedNewmarkOptions {
+  NewmarkParameters newmark;  ///< Δt, β̃ (> 0: implicit), γ̃, Rayleigh α, β.
+  /// j_max, Newton iterations per step. The thesis default 1 is the semi-implicit integrator:
+  /// one linear solve per step, usually reported as iteration_limit.
+  int max_newton_iterations = 1;
+  /// Newton stops when ‖residual‖₂ ≤ tolerance · max(‖f̃‖, ‖R̃(q_i)‖, ‖M̃ q̈_i‖, f_floor) with
+  /// f_floor = 1e-12 in reduced force units: relative to the forces at play at the start of
+  /// the step, so the test is unit-free (as FullNewmarkOptions::tolerance). Under the
+  /// acceleration limit the forces, like the residual, are scaled by s. Round-off bounds what
+  /// is reachable: the residual sums inertia terms of size ‖M̃ q̇‖/(β̃Δt), so at Δt ≤ 1 ms a
+  /// tolerance of 1e-12 can already be out of reach (the step then reports iteration_limit).
+  double tolerance = 1e-9;
+  /// Limit on ‖q̈‖₂ (units of q per s²) of thesis §3.10.2; +∞ (the default) disables it.
+  /// Once per step, with the forces at the start of the step (q_i, q̇_i), the integrator computes
+  /// the current acceleration q̈ = M̃⁻¹(f̃ − D̃ − R̃), D̃ = C̃(q_i) q̇_i, R̃ = R̃(q_i). If
+  /// ‖q̈‖₂ > limit, it scales D̃, R̃ and f̃ by s = limit / ‖q̈‖₂ for this step: every Newton
+  /// iteration solves M̃ q̈ + s (C̃ q̇ + R̃(q) − f̃) = 0, with the consistently scaled
+  /// A = α1 M̃ + s (α4 C̃ + K̃). The step thus moves as if the mass were M̃ / s and starts with
+  /// an acceleration of norm exactly `limit`; the end-of-step q̈ of a converged step is s times
+  /// the end-of-step force balance, so it exceeds the limit only by as much as the forces
+  /// change within the step. Limiting chops accelerations rather than following the physics (a
+  /// limited step does not conserve energy): a safety net for haptics, where a quick push or the
+  /// release of a strained object would otherwise produce accelerations the contact bounds do not
+  /// expect.
+  double acceleration_limit = std::numeric_limits<double>::infinity();
+
+  /// @throws Error naming the first invalid option (Newmark parameters, β̃ = 0,
+  ///         max_newton_iterations < 1, tolerance or acceleration_limit not positive).
+  void validate() const;
+};
+
+/// Implicit Newmark time stepping of the reduced equations of motion
+/// M̃ q̈ + C̃(q) q̇ + R̃(q) = f̃ (thesis eq. 2.21) with local Rayleigh damping C̃ = αM̃ + βK̃(q),
+/// exactly the algorithm of thesis §2.9: q_{i+1} ← q_i, then up to j_max Newton iterations,
+/// each evaluating R̃ and K̃ at q_{i+1}, forming A = α1 M̃ + α4 C̃ + K̃ and the residual
+/// M̃(α1 Δq − α2 q̇_i − α3 q̈_i) + C̃(α4 Δq + α5 q̇_i + α6 q̈_i) + R̃ − f̃ (Δq = q_{i+1} − q_i),
+/// stopping when the residual meets the tolerance, else solving A δ = −residual and updating
+/// q_{i+1} += δ; finally q̇ and q̈ follow from Δq (α1…α6 of NewmarkConstants). Like the thesis,
+/// A omits the derivative of the damping force's βK̃(q) with respect to q.
+///
+/// The dense r×r system is solved by Cholesky; when A is not positive definite (a tangent
+/// stiffness negative enough to beat the inertia term α1 M̃), by the symmetric
+/// eigendecomposition with the true eigenvalues, eigenvalues with |λ| ≤ 1e-12·max|λ| treated as
+/// zero (pseudo-inverse; ReducedStepReport::fallback_solve tells).
+///
+/// M̃ is the reduced mass, the identity for a mass-orthonormal basis (UᵀMU = I), but any
+/// symmetric positive definite matrix is accepted: densities may change at runtime
+/// (set_mass()). step() allocates nothing and never throws; the other members may do both.
+/// Not thread-safe (it drives a force model with workspaces).
+class KHZ_REDUCED_API ReducedNewmark {
+ public:
+  /// @param forces the reduced force model (r coordinates); must outlive the integrator.
+  /// @param mass   M̃, r×r symmetric positive definite.
+  /// State starts at rest at q = 0, time 0.
+  /// @throws Error for invalid options or mass (naming the problem).
+  ReducedNewmark(ReducedForceModel& forces, const Eigen::MatrixXd& mass,
+                 const ReducedNewmarkOptions& options = {});
+  ~ReducedNewmark();
+  ReducedNewmark(ReducedNewmark&&) noexcept;
+  ReducedNewmark& operator=(ReducedNewmark&&) noexcept;
+
+  /// Sets q, q̇, q̈ (r entries each). @throws Error for wrong sizes or non-finite values.
+  void set_state(const Eigen::VectorXd& coordinates, const Eigen::VectorXd& velocity,
+                 const Eigen::VectorXd& acceleration);
+
+  /// Sets q and q̇ (r entries each) and the acceleration the equation of motion gives under
+  /// `external_force` f̃: q̈ = M̃⁻¹(f̃ − R̃(q) − C̃(q) q̇). Starting from a consistent
+  /// acceleration avoids the energy jump an arbitrary q̈₀ causes in the first step.
+  /// @throws Error for wrong sizes or non-finite input; SolverError if the model returns
+  ///         non-finite forces. The state is unchanged on throw.
+  void set_state_in_equilibrium(const Eigen::VectorXd& coordinates, const Eigen::VectorXd& velocity,
+                                const Eigen::VectorXd& external_force);
+
+  /// Replaces M̃ (e.g. after a density change); the state is kept (call
+  /// set_state_in_equilibrium() for an acceleration consistent with the new mass).
+  /// @throws Error (mass unchanged) unless r×r, finite, symmetric and positive definite.
+  void set_mass(const Eigen::MatrixXd& mass);
+
+  /// Advances one time step under the reduced external force f̃_{i+1} (r entries, Uᵀ f for a
+  /// full force f) held over the step. Never throws, never allocates; failures are reported:
+  /// a non-finite external force, force, stiffness, solution or new state gives status failed
+  /// and leaves q, q̇, q̈ and time untouched. A wrong-sized force asserts in debug builds and
+  /// fails likewise in release builds.
+  ReducedStepReport step(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept;
+
+  Eigen::Index dimension() const noexcept;               ///< r.
+  const Eigen::VectorXd& coordinates() const noexcept;   ///< q, r entries.
+  const Eigen::VectorXd& velocity() const noexcept;      ///< q̇ (per s).
+  const Eigen::VectorXd& acceleration() const noexcept;  ///< q̈ (per s²).
+  const Eigen::MatrixXd& mass() const noexcept;          ///< M̃.
+  const ReducedNewmarkOptions& options() const noexcept;
+  double time() const noexcept;            ///< Steps taken × Δt (s).
+  double kinetic_energy() const noexcept;  ///< ½ q̇ᵀ M̃ q̇ (J); allocates nothing.
+  double strain_energy() const noexcept;   ///< E(q) of the force model (J).
+
+ private:
+  struct Data;
+  std::unique_ptr<Data> m_data;
+};
+
+}  // namespace khz::reduced
