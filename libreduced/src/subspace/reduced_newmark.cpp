@@ -114,8 +114,9 @@ ReducedStepReport ReducedNewmark::step(
   bool converged = false;
   d.next = s.q;  // line 1
   for (int j = 0; j < d.options.max_newton_iterations; ++j) {
-    s.forces.evaluate(d.next, d.forces, d.stiffness);  // lines 3-4
-    if (!d.forces.allFinite() || !d.stiffness.allFinite()) return report;
+    // Lines 3-4. Non-finite forces or stiffness need no scan of their own: they reach the
+    // residual norm or the solution, which are checked.
+    s.forces.evaluate(d.next, d.forces, d.stiffness);
     if (j == 0) {
       if (std::isfinite(d.options.acceleration_limit)) {
         scale = d.acceleration_scale(external_force);
@@ -131,7 +132,9 @@ ReducedStepReport ReducedNewmark::step(
     // Lines 8-9: M̃ q̈ + s (C̃ q̇ + R̃ − f̃) with C̃ = αM̃ + βK̃ (lines 5-6), s = 1 unless limited.
     d.work = d.acceleration + (scale * p.mass_damping) * d.velocity;
     d.residual.noalias() = s.mass * d.work;
-    d.residual.noalias() += (scale * p.stiffness_damping) * (d.stiffness * d.velocity);
+    if (p.stiffness_damping != 0.0) {
+      d.residual.noalias() += (scale * p.stiffness_damping) * (d.stiffness * d.velocity);
+    }
     d.residual += scale * (d.forces - external_force);
     report.residual_norm = d.residual.norm();
     if (!std::isfinite(report.residual_norm)) return report;
