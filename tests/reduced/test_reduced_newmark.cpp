@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <utility>
 
@@ -243,6 +244,43 @@ TEST(ReducedNewmark, IndefiniteSystemIsSolvedThroughTheEigenFallback) {
   // And the new state satisfies the equation of motion M̃ q̈ + K̃ q = f̃.
   EXPECT_LT((integrator.acceleration() + stiffness * integrator.coordinates() - load).norm(),
             1e-10);
+}
+
+/// A random symmetric positive definite r×r matrix with eigenvalues in [1, 1 + r].
+Eigen::MatrixXd random_spd(Eigen::Index r) {
+  const Eigen::MatrixXd a = Eigen::MatrixXd::Random(r, r);
+  return a * a.transpose() + identity(r);
+}
+
+TEST(ReducedNewmark, ALinearStepSolvesItsSystemExactlyAtEverySize) {
+  // The step's solver works in chunks of eight rows with padding: sizes on both sides of every
+  // chunk boundary, a general mass and the identity mass of a mass-orthonormal basis (also one
+  // off by round-off, which counts as the identity), each against a dense QR of the system.
+  std::srand(7);
+  for (const Eigen::Index r : {1, 2, 7, 8, 9, 15, 16, 17, 31, 33, 60}) {
+    const Eigen::MatrixXd stiffness = 1e3 * random_spd(r);
+    const Eigen::MatrixXd near_identity =
+        identity(r) + 1e-13 * Eigen::MatrixXd::Ones(r, r);  // symmetric, off by round-off
+    for (const Eigen::MatrixXd& mass : {random_spd(r), identity(r), near_identity}) {
+      LinearReducedForces forces(stiffness);
+      const Eigen::VectorXd q0 = Eigen::VectorXd::Random(r), v0 = Eigen::VectorXd::Random(r);
+      const Eigen::VectorXd a0 = Eigen::VectorXd::Random(r), load = Eigen::VectorXd::Random(r);
+      const ReducedNewmarkOptions options = options_with(0.01, 1);
+      const NewmarkConstants c = NewmarkConstants::from(options.newmark);
+      // (α1 M̃ + K̃) q1 = f̃ + M̃ (α1 q0 + α2 v0 + α3 a0)
+      const Eigen::MatrixXd system = c.alpha1 * mass + stiffness;
+      const Eigen::VectorXd expected = system.colPivHouseholderQr().solve(
+          load + mass * (c.alpha1 * q0 + c.alpha2 * v0 + c.alpha3 * a0));
+
+      ReducedNewmark integrator(forces, mass, options);
+      integrator.set_state(q0, v0, a0);
+      const ReducedStepReport report = integrator.step(load);
+      EXPECT_EQ(report.status, ReducedStepStatus::iteration_limit) << "r = " << r;
+      EXPECT_FALSE(report.fallback_solve) << "r = " << r;
+      EXPECT_LT((integrator.coordinates() - expected).norm(), 1e-12 * expected.norm())
+          << "r = " << r;
+    }
+  }
 }
 
 void expect_state(const ReducedNewmark& integrator, const Eigen::VectorXd& q,

@@ -33,6 +33,12 @@ struct ReducedCentralDifferences::Data {
         acceleration(model.dimension()),
         velocity(model.dimension()) {}
 
+  /// acceleration = f̃ − R̃ − αM̃ q̇_pred: the net force before stiffness damping.
+  void net_force(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
+    state.multiply_mass(predicted_velocity, velocity);  // velocity is free until the update
+    acceleration = external_force - forces - options.mass_damping * velocity;
+  }
+
   ReducedCentralDifferencesOptions options;
   detail::ReducedState state;
   detail::DenseSymmetricSolver solver;  // M̃ + ½Δt C̃ when β > 0
@@ -94,11 +100,10 @@ ReducedStepReport ReducedCentralDifferences::step(
   if (beta > 0.0) {
     s.forces.evaluate(d.next, d.forces, d.stiffness);
     if (!d.forces.allFinite() || !d.stiffness.allFinite()) return report;
-    d.acceleration = external_force - d.forces;
-    d.acceleration.noalias() -= alpha * (s.mass * d.predicted_velocity);
+    d.net_force(external_force);
     d.acceleration.noalias() -= beta * (d.stiffness * d.predicted_velocity);
-    d.system = (1.0 + 0.5 * h * alpha) * s.mass;
-    d.system += (0.5 * h * beta) * d.stiffness;
+    d.system = (0.5 * h * beta) * d.stiffness;
+    s.add_scaled_mass(1.0 + 0.5 * h * alpha, d.system);
     const detail::DenseSolve solve = d.solver.solve_in_place(d.system, d.acceleration);
     if (solve == detail::DenseSolve::failed) return report;
     report.fallback_solve = solve == detail::DenseSolve::eigen_fallback;
@@ -106,9 +111,8 @@ ReducedStepReport ReducedCentralDifferences::step(
     s.forces.evaluate_forces(d.next, d.forces);
     if (!d.forces.allFinite()) return report;
     // C̃ = αM̃: the system matrix (1 + ½Δtα) M̃ reuses the mass factor.
-    d.acceleration = external_force - d.forces;
-    d.acceleration.noalias() -= alpha * (s.mass * d.predicted_velocity);
-    s.mass_factor.solveInPlace(d.acceleration);
+    d.net_force(external_force);
+    s.solve_mass_in_place(d.acceleration);
     d.acceleration /= 1.0 + 0.5 * h * alpha;
   }
   d.velocity = d.predicted_velocity + (0.5 * h) * d.acceleration;

@@ -67,9 +67,11 @@ double ReducedNewmark::Data::acceleration_scale(
   const NewmarkParameters& p = options.newmark;
   // Thesis §3.10.2: q̈ = M̃⁻¹(f̃ − D̃(q, q̇) − R̃(q)) at the current state, D̃ = C̃(q) q̇.
   work = external_force - forces;
-  work.noalias() -= p.mass_damping * (state.mass * state.velocity);
-  work.noalias() -= p.stiffness_damping * (stiffness * state.velocity);
-  state.mass_factor.solveInPlace(work);
+  state.multiply_mass(state.velocity, residual);
+  work -= p.mass_damping * residual;
+  if (p.stiffness_damping != 0.0)
+    work.noalias() -= p.stiffness_damping * (stiffness * state.velocity);
+  state.solve_mass_in_place(work);
   const double norm = work.norm();
   // A non-finite norm is left to the residual test, which then fails the step.
   return norm > options.acceleration_limit ? options.acceleration_limit / norm : 1.0;
@@ -122,7 +124,7 @@ ReducedStepReport ReducedNewmark::step(
         scale = d.acceleration_scale(external_force);
         report.acceleration_limited = scale < 1.0;
       }
-      d.work.noalias() = s.mass * s.acceleration;
+      s.multiply_mass(s.acceleration, d.work);
       tolerance = d.options.tolerance * std::max({scale * external_force.norm(),
                                                   scale * d.forces.norm(), d.work.norm(), 1e-12});
     }
@@ -131,7 +133,7 @@ ReducedStepReport ReducedNewmark::step(
     d.velocity = c.alpha4 * d.increment + c.alpha5 * s.velocity + c.alpha6 * s.acceleration;
     // Lines 8-9: M̃ q̈ + s (C̃ q̇ + R̃ − f̃) with C̃ = αM̃ + βK̃ (lines 5-6), s = 1 unless limited.
     d.work = d.acceleration + (scale * p.mass_damping) * d.velocity;
-    d.residual.noalias() = s.mass * d.work;
+    s.multiply_mass(d.work, d.residual);
     if (p.stiffness_damping != 0.0) {
       d.residual.noalias() += (scale * p.stiffness_damping) * (d.stiffness * d.velocity);
     }
@@ -143,8 +145,8 @@ ReducedStepReport ReducedNewmark::step(
       break;
     }
     // Line 7: A = α1 M̃ + s (α4 C̃ + K̃) = (α1 + s α4 α) M̃ + s (1 + α4 β) K̃.
-    d.system = (c.alpha1 + scale * c.alpha4 * p.mass_damping) * s.mass;
-    d.system += (scale * (1.0 + c.alpha4 * p.stiffness_damping)) * d.stiffness;
+    d.system = (scale * (1.0 + c.alpha4 * p.stiffness_damping)) * d.stiffness;
+    s.add_scaled_mass(c.alpha1 + scale * c.alpha4 * p.mass_damping, d.system);
     d.residual = -d.residual;  // lines 12-13: A δ = −residual
     const detail::DenseSolve solve = d.solver.solve_in_place(d.system, d.residual);
     if (solve == detail::DenseSolve::failed) return report;

@@ -6,6 +6,12 @@
 #include <utility>
 
 namespace khz::reduced::detail {
+namespace {
+
+/// Largest entry of |M̃ − I| for which M̃ counts as the identity.
+constexpr double identity_tolerance = 1e-12;
+
+}  // namespace
 
 Eigen::LLT<Eigen::MatrixXd> factor_reduced_mass(const Eigen::MatrixXd& mass, Eigen::Index r,
                                                 const std::string& owner) {
@@ -37,8 +43,7 @@ ReducedState::ReducedState(ReducedForceModel& model, const Eigen::MatrixXd& redu
     : forces(model), owner(std::move(owner_name)) {
   const Eigen::Index r = forces.dimension();
   if (r < 1) throw Error(owner + ": the force model has no reduced coordinates");
-  mass_factor = factor_reduced_mass(reduced_mass, r, owner);
-  mass = reduced_mass;
+  assign_mass(reduced_mass, owner);
   q = Eigen::VectorXd::Zero(r);
   velocity = q;
   acceleration = q;
@@ -87,8 +92,35 @@ void ReducedState::set_state_in_equilibrium(const Eigen::VectorXd& coordinates,
 }
 
 void ReducedState::set_mass(const Eigen::MatrixXd& reduced_mass) {
-  mass_factor = factor_reduced_mass(reduced_mass, q.size(), owner + "::set_mass");
+  assign_mass(reduced_mass, owner + "::set_mass");
+}
+
+void ReducedState::assign_mass(const Eigen::MatrixXd& reduced_mass, const std::string& context) {
+  mass_factor = factor_reduced_mass(reduced_mass, forces.dimension(), context);
   mass = reduced_mass;
+  const Eigen::Index r = mass.rows();
+  identity_mass =
+      (mass - Eigen::MatrixXd::Identity(r, r)).cwiseAbs().maxCoeff() <= identity_tolerance;
+}
+
+void ReducedState::multiply_mass(const Eigen::VectorXd& x, Eigen::VectorXd& out) const noexcept {
+  if (identity_mass) {
+    out = x;
+  } else {
+    out.noalias() = mass * x;
+  }
+}
+
+void ReducedState::solve_mass_in_place(Eigen::VectorXd& x) const noexcept {
+  if (!identity_mass) mass_factor.solveInPlace(x);
+}
+
+void ReducedState::add_scaled_mass(double c, Eigen::MatrixXd& matrix) const noexcept {
+  if (identity_mass) {
+    matrix.diagonal().array() += c;
+  } else {
+    matrix += c * mass;
+  }
 }
 
 double ReducedState::kinetic_energy() const noexcept {

@@ -34,6 +34,13 @@ struct ReducedState {
   /// @throws Error (mass unchanged) for an invalid mass.
   void set_mass(const Eigen::MatrixXd& reduced_mass);
 
+  /// out = M̃ x (`out` must not be `x`).
+  void multiply_mass(const Eigen::VectorXd& x, Eigen::VectorXd& out) const noexcept;
+  /// x ← M̃⁻¹ x.
+  void solve_mass_in_place(Eigen::VectorXd& x) const noexcept;
+  /// matrix ← c M̃ + matrix.
+  void add_scaled_mass(double c, Eigen::MatrixXd& matrix) const noexcept;
+
   double kinetic_energy() const noexcept;  ///< ½ q̇ᵀ M̃ q̇, without allocating.
   double strain_energy() const noexcept;   ///< E(q).
 
@@ -41,8 +48,15 @@ struct ReducedState {
   std::string owner;  ///< Class name that starts error messages.
   Eigen::MatrixXd mass;
   Eigen::LLT<Eigen::MatrixXd> mass_factor;
+  /// M̃ is the identity to within 1e-12 per entry, as for a mass-orthonormal basis (thesis §2.9),
+  /// and the mass helpers treat it as exactly I: no r×r products in a step.
+  bool identity_mass = false;
   Eigen::VectorXd q, velocity, acceleration;
   long steps = 0;  ///< Steps taken; time = steps × Δt.
+
+ private:
+  /// Factors, stores and classifies a new mass. @throws Error starting with `context`.
+  void assign_mass(const Eigen::MatrixXd& reduced_mass, const std::string& context);
 };
 
 }  // namespace khz::reduced::detail

@@ -24,6 +24,12 @@ inline __mmask8 first_lanes_mask(int count) noexcept {
 }
 
 inline Lanes zero_lanes() noexcept { return {_mm512_setzero_pd()}; }
+/// Lane 0.
+inline double first_lane(Lanes x) noexcept { return _mm512_cvtsd_f64(x.v); }
+/// x with lane i (0 ≤ i < 8) replaced by value.
+inline Lanes with_lane(Lanes x, int i, double value) noexcept {
+  return {_mm512_mask_broadcastsd_pd(x.v, static_cast<__mmask8>(1u << i), _mm_set_sd(value))};
+}
 inline Lanes broadcast(double value) noexcept { return {_mm512_set1_pd(value)}; }
 /// Lanes p[0..8), any alignment.
 inline Lanes load(const double* p) noexcept { return {_mm512_loadu_pd(p)}; }
@@ -94,6 +100,11 @@ struct Lanes {
 };
 
 inline Lanes zero_lanes() noexcept { return {}; }
+inline double first_lane(Lanes x) noexcept { return x.v[0]; }
+inline Lanes with_lane(Lanes x, int i, double value) noexcept {
+  x.v[i] = value;
+  return x;
+}
 inline Lanes broadcast(double value) noexcept {
   Lanes x;
   for (double& lane : x.v) lane = value;
