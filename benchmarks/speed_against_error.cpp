@@ -1,7 +1,8 @@
 // Speed against error: the same dynamic scenarios in the full FEM model and in reduced models with
 // modal-derivative bases of growing size r (thesis §2.13.2). For each r one table row: what the
 // reduced model costs to prepare and to step, how much faster it runs than the full model, and
-// how far its trajectory strays from the full one. Writes speed_against_error.csv and .png.
+// how far its trajectory strays from the full one. Writes speed_against_error.csv and .png, and
+// the tracked vertex's trajectories in speed_against_error_trajectories.csv.
 //
 //   speed_against_error [--scenario beam|dino|all] [--ranks 5,10,...] [--output DIR]
 //
@@ -34,6 +35,7 @@
 #include <fstream>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -173,7 +175,11 @@ struct Row {
   double basis_seconds = 0, polynomial_seconds = 0, step_us = 0, full_step_us = 0;
   double trajectory_error = 0, peak_vertex_error = 0, peak_vertex_error_relative = 0;
   double frequency_error = 0;
+  // σ_r / σ_{r+1} of the PCA: near 1, the cut splits a cluster of equally important directions
+  // (e.g. the y and z twins of a square beam) and drops some of them arbitrarily.
+  double cut_ratio = 0;
   int failed_steps = 0;
+  std::vector<Eigen::Vector3d> trajectory;  // of the tracked vertex's displacement (m)
 };
 
 // First local maximum of f after `from` that reaches half the global maximum, refined by a
@@ -202,11 +208,16 @@ std::optional<double> first_period(const std::vector<double>& f) {
 
 Row run_reduced(const Scenario& s, const FullRun& full, const DerivativeSamples& samples, int r,
                 int newton_iterations) {
-  Row row{s.name, r};
+  Row row;
+  row.scenario = s.name;
+  row.r = r;
   auto start = Clock::now();
   PcaOptions pca;
   pca.basis_size = r;
-  Basis basis{principal_components(samples.samples, samples.mass, pca).basis, s.fixed,
+  PcaResult components = principal_components(samples.samples, samples.mass, pca);
+  const Eigen::VectorXd& sigma = components.singular_values;
+  row.cut_ratio = r < sigma.size() ? sigma[r - 1] / sigma[r] : std::nan("");
+  Basis basis{std::move(components.basis), s.fixed,
               "modal derivatives, mass PCA to r=" + std::to_string(r)};
   row.basis_seconds = samples.seconds + seconds_since(start);
 
@@ -244,6 +255,7 @@ Row run_reduced(const Scenario& s, const FullRun& full, const DerivativeSamples&
     reference_squares += reference[step].squaredNorm();
   }
   row.trajectory_error = std::sqrt(error_squares / reference_squares);
+  row.trajectory = simulated;
 
   std::vector<double> magnitude(s.steps);
   for (int step = 0; step < s.steps; ++step) magnitude[step] = reference[step].norm();
@@ -275,19 +287,20 @@ Row run_reduced(const Scenario& s, const FullRun& full, const DerivativeSamples&
 }
 
 void print_header() {
-  std::printf("%-6s %3s %9s %9s %10s %10s %9s %10s %12s %10s %9s\n", "scene", "r", "basis s",
+  std::printf("%-6s %3s %9s %9s %10s %10s %9s %10s %12s %10s %9s %9s\n", "scene", "r", "basis s",
               "poly s", "step us", "full us", "speedup", "traj L2", "peak err mm", "peak rel",
-              "freq err");
+              "freq err", "σr/σr+1");
 }
 
 void print_row(const Row& row) {
-  std::printf(
-      "%-6s %3d %9.2f %9.2f %10.2f %10.0f %9.0f %10.2e %12.3f %10.2e %+8.2f%%%s\n",
-      row.scenario.c_str(), row.r, row.basis_seconds, row.polynomial_seconds, row.step_us,
-      row.full_step_us, row.full_step_us / row.step_us, row.trajectory_error,
-      1e3 * row.peak_vertex_error, row.peak_vertex_error_relative, 100.0 * row.frequency_error,
-      row.failed_steps > 0 ? ("  (" + std::to_string(row.failed_steps) + " failed steps)").c_str()
-                           : "");
+  std::printf("%-6s %3d %9.2f %9.2f %10.2f %10.0f %9.0f %10.2e %12.3f %10.2e %+8.2f%% %9.4f%s\n",
+              row.scenario.c_str(), row.r, row.basis_seconds, row.polynomial_seconds, row.step_us,
+              row.full_step_us, row.full_step_us / row.step_us, row.trajectory_error,
+              1e3 * row.peak_vertex_error, row.peak_vertex_error_relative,
+              100.0 * row.frequency_error, row.cut_ratio,
+              row.failed_steps > 0
+                  ? ("  (" + std::to_string(row.failed_steps) + " failed steps)").c_str()
+                  : "");
   std::fflush(stdout);
 }
 
@@ -295,14 +308,31 @@ void write_csv(const std::filesystem::path& file, const std::vector<Row>& rows) 
   std::ofstream out(file);
   out << "scenario,r,basis_seconds,polynomial_seconds,precompute_seconds,step_us,full_step_us,"
          "speedup,trajectory_relative_l2,peak_max_vertex_error_m,peak_max_vertex_error_relative,"
-         "first_period_frequency_error,failed_steps\n";
+         "first_period_frequency_error,pca_cut_ratio,failed_steps\n";
   for (const Row& row : rows) {
     out << row.scenario << ',' << row.r << ',' << row.basis_seconds << ',' << row.polynomial_seconds
         << ',' << row.basis_seconds + row.polynomial_seconds << ',' << row.step_us << ','
         << row.full_step_us << ',' << row.full_step_us / row.step_us << ',' << row.trajectory_error
         << ',' << row.peak_vertex_error << ',' << row.peak_vertex_error_relative << ','
-        << row.frequency_error << ',' << row.failed_steps << '\n';
+        << row.frequency_error << ',' << row.cut_ratio << ',' << row.failed_steps << '\n';
   }
+}
+
+// The tracked vertex's displacement per step: the full model's as r = 0, then each reduced one.
+void write_trajectories(
+    const std::filesystem::path& file, const std::vector<Row>& rows,
+    const std::vector<std::pair<std::string, std::vector<Eigen::Vector3d>>>& full) {
+  std::ofstream out(file);
+  out << "scenario,r,step,ux,uy,uz\n";
+  const auto write = [&](const std::string& scenario, int r,
+                         const std::vector<Eigen::Vector3d>& u) {
+    for (std::size_t step = 0; step < u.size(); ++step) {
+      out << scenario << ',' << r << ',' << step << ',' << u[step].x() << ',' << u[step].y() << ','
+          << u[step].z() << '\n';
+    }
+  };
+  for (const auto& [scenario, u] : full) write(scenario, 0, u);
+  for (const Row& row : rows) write(row.scenario, row.r, row.trajectory);
 }
 
 // Log–log plot of trajectory error against speedup, one line per scenario, points labelled r.
@@ -365,6 +395,7 @@ int main(int argc, char** argv) {
 
   try {
     std::vector<Row> rows;
+    std::vector<std::pair<std::string, std::vector<Eigen::Vector3d>>> full_trajectories;
     print_header();
     for (const std::string& name : {std::string("beam"), std::string("dino")}) {
       if (which != "all" && which != name) continue;
@@ -375,8 +406,11 @@ int main(int argc, char** argv) {
       const FullRun full = run_full(scenario);
       const DerivativeSamples samples = derivative_samples(scenario, num_modes);
       double largest = 0;
+      std::vector<Eigen::Vector3d>& tracked =
+          full_trajectories.emplace_back(name, std::vector<Eigen::Vector3d>{}).second;
       for (const Eigen::VectorXd& u : full.displacements) {
-        largest = std::max(largest, u.segment<3>(3 * scenario.tracked).norm());
+        tracked.push_back(u.segment<3>(3 * scenario.tracked));
+        largest = std::max(largest, tracked.back().norm());
       }
       std::printf(
           "# full model: %.1f ms per step; first linear mode %.2f Hz; tracked vertex moves up "
@@ -390,8 +424,9 @@ int main(int argc, char** argv) {
     std::filesystem::create_directories(output);
     write_csv(output / "speed_against_error.csv", rows);
     write_plot(output / "speed_against_error.png", rows);
-    std::printf("wrote %s and %s\n", (output / "speed_against_error.csv").c_str(),
-                (output / "speed_against_error.png").c_str());
+    write_trajectories(output / "speed_against_error_trajectories.csv", rows, full_trajectories);
+    std::printf("wrote speed_against_error.csv, .png and _trajectories.csv to %s\n",
+                output.c_str());
   } catch (const std::exception& error) {
     std::fprintf(stderr, "speed_against_error: %s\n", error.what());
     return 1;
