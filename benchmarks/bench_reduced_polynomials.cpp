@@ -8,6 +8,7 @@
 // speed of memory.
 #include <khz/reduced/subspace/energy_polynomial.hpp>
 #include <khz/reduced/subspace/polynomial_forces.hpp>
+#include <khz/test/random_polynomial.hpp>
 
 #include <benchmark/benchmark.h>
 #include <dlfcn.h>
@@ -18,7 +19,6 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
-#include <random>
 #include <vector>
 
 // BLAS's Fortran interface (OpenBLAS on Debian, through LAPACK::LAPACK), 32-bit integers.
@@ -44,23 +44,10 @@ void pin_blas_to_one_thread() {
   Eigen::setNbThreads(1);
 }
 
-/// Coefficients uniform in [−1, 1] and K = AᵀA + I, fixed seed.
-kr::EnergyPolynomial random_polynomial(Eigen::Index r) {
-  std::mt19937_64 random(static_cast<unsigned>(r));
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  kr::EnergyPolynomial p = kr::EnergyPolynomial::zero(r);
-  Eigen::MatrixXd a(r, r);
-  for (Eigen::Index k = 0; k < a.size(); ++k) a.data()[k] = uniform(random);
-  p.quadratic = a.transpose() * a + Eigen::MatrixXd::Identity(r, r);
-  for (double& c : p.cubic) c = uniform(random);
-  for (double& t : p.quartic) t = uniform(random);
-  return p;
-}
-
 /// One model, reduced coordinates and outputs per r.
 struct Fixture {
   explicit Fixture(Eigen::Index r)
-      : polynomial(random_polynomial(r)),
+      : polynomial(khz::test::random_polynomial(r, static_cast<unsigned>(r))),
         model(polynomial),
         q(0.5 * Eigen::VectorXd::Random(r)),
         forces(r),

@@ -2,6 +2,7 @@
 #include <khz/reduced/subspace/energy_polynomial.hpp>
 #include <khz/reduced/subspace/polynomial_forces.hpp>
 #include <khz/test/allocation_probe.hpp>
+#include <khz/test/random_polynomial.hpp>
 
 #include <gtest/gtest.h>
 
@@ -16,23 +17,12 @@ namespace {
 
 /// Dimensions on both sides of the kernels' 8-lane tiles: with n = r + 1 homogenized
 /// coordinates, r = 7 and 15 fill one and two tiles, and r = 31 needs four.
+using test::random_polynomial;
+
 constexpr std::array kDimensions{1, 2, 3, 7, 8, 9, 15, 16, 17, 31};
 
 /// The brief's accuracy bound for the exact evaluations; measured errors are below 2e-14.
 constexpr double kExact = 1e-12;
-
-/// A polynomial with coefficients uniform in [−1, 1] and K = AᵀA + I.
-EnergyPolynomial random_polynomial(Eigen::Index r, unsigned seed) {
-  std::mt19937_64 random(seed);
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  EnergyPolynomial p = EnergyPolynomial::zero(r);
-  Eigen::MatrixXd a(r, r);
-  for (Eigen::Index k = 0; k < a.size(); ++k) a.data()[k] = uniform(random);
-  p.quadratic = a.transpose() * a + Eigen::MatrixXd::Identity(r, r);
-  for (double& c : p.cubic) c = uniform(random);
-  for (double& t : p.quartic) t = uniform(random);
-  return p;
-}
 
 Eigen::VectorXd random_q(Eigen::Index r, unsigned seed) {
   std::mt19937_64 random(seed);
