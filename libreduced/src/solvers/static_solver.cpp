@@ -1,3 +1,4 @@
+#include "../detail/backtracking_line_search.hpp"
 #include "../detail/stage_progress.hpp"
 
 #include <khz/reduced/errors.hpp>
@@ -13,8 +14,6 @@
 
 namespace khz::reduced {
 namespace {
-
-constexpr int max_line_search_halvings = 30;
 
 /// The out-of-balance force R(u) − f on the free dofs.
 class Residual {
@@ -102,35 +101,22 @@ StaticSolution solve_static(const FemModel& model, std::span<const int> fixed_ve
       }
       const Eigen::VectorXd direction = -factor->solve(residual);
 
-      // Backtracking on two merits: the potential energy Π(u) = W(u) − fᵀu (Armijo condition;
-      // the Newton direction descends on it wherever K is positive definite) or the norm of the
-      // out-of-balance force. Accepting either avoids the tiny steps a residual-only search
-      // takes in bending, where the residual often grows on the way to the minimum; the
-      // residual criterion still guards steps where K is indefinite.
-      double length = 1.0;
       Eigen::VectorXd trial = u + direction;
       if (options.line_search) {
         const double energy = model.strain_energy(u_full) - f.dot(u);
-        const double slope = residual.dot(direction);  // dΠ/dα at α = 0
-        for (int halving = 0;; ++halving) {
-          fixed.expand_vector(trial, u_full);
-          const double trial_norm = residual_of(u_full, f).norm();
-          const double trial_energy = model.strain_energy(u_full) - f.dot(trial);
-          const bool energy_decreases =
-              slope < 0.0 && trial_energy <= energy + 1e-4 * length * slope;
-          if (std::isfinite(trial_norm) &&
-              (energy_decreases || trial_norm < solution.residual_norm)) {
-            break;
-          }
-          if (halving == max_line_search_halvings) {
-            throw SolverError(
-                "solve_static: line search found no decrease at " +
-                describe(step, options.load_steps, iteration, solution.residual_norm) +
-                "; the tolerance may be below round-off, or the stiffness singular (are the rigid "
-                "motions fixed?)");
-          }
-          length *= 0.5;
-          trial = u + length * direction;
+        const auto accepted = detail::backtracking_line_search(
+            energy, residual.dot(direction), solution.residual_norm, [&](double length) {
+              trial = u + length * direction;
+              fixed.expand_vector(trial, u_full);
+              return detail::TrialMerits{residual_of(u_full, f).norm(),
+                                         model.strain_energy(u_full) - f.dot(trial)};
+            });
+        if (!accepted) {
+          throw SolverError(
+              "solve_static: line search found no decrease at " +
+              describe(step, options.load_steps, iteration, solution.residual_norm) +
+              "; the tolerance may be below round-off, or the stiffness singular (are the rigid "
+              "motions fixed?)");
         }
       }
       u = trial;

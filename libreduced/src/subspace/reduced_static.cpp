@@ -1,6 +1,7 @@
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/subspace/reduced_static.hpp>
 
+#include "detail/backtracking_line_search.hpp"
 #include "detail/stage_progress.hpp"
 #include "subspace/dense_symmetric_solve.hpp"
 
@@ -20,8 +21,6 @@ void ReducedStaticOptions::validate() const {
 }
 
 namespace {
-
-constexpr int max_line_search_halvings = 30;
 
 std::string describe(int load_step, int load_steps, int iteration, double residual) {
   char text[128];
@@ -84,35 +83,23 @@ ReducedStaticSolution solve_reduced_static(ReducedForceModel& forces,
                           describe(step, options.load_steps, iteration, solution.residual_norm));
       }
 
-      // Backtracking on two merits, as solve_static(): the potential energy Π(q) = E(q) − f̃ᵀq
-      // (Armijo condition; the Newton direction descends on it wherever K̃ is positive
-      // definite) or the norm of the out-of-balance force, which still guards steps where K̃
-      // is indefinite.
-      double length = 1.0;
-      trial = q + direction;
       if (options.line_search) {
-        const double energy = forces.energy(q) - f.dot(q);
-        const double slope = residual.dot(direction);  // dΠ/dα at α = 0
-        for (int halving = 0;; ++halving) {
-          forces.evaluate_forces(trial, internal);
-          const double trial_norm = (internal - f).norm();
-          const double trial_energy = forces.energy(trial) - f.dot(trial);
-          const bool energy_decreases =
-              slope < 0.0 && trial_energy <= energy + 1e-4 * length * slope;
-          if (std::isfinite(trial_norm) &&
-              (energy_decreases || trial_norm < solution.residual_norm)) {
-            break;
-          }
-          if (halving == max_line_search_halvings) {
-            throw SolverError(
-                "solve_reduced_static: line search found no decrease at " +
-                describe(step, options.load_steps, iteration, solution.residual_norm) +
-                "; the load may exceed what the model carries, or the tolerance be below "
-                "round-off");
-          }
-          length *= 0.5;
-          trial = q + length * direction;
+        const auto accepted = detail::backtracking_line_search(
+            forces.energy(q) - f.dot(q), residual.dot(direction), solution.residual_norm,
+            [&](double length) {
+              trial = q + length * direction;
+              forces.evaluate_forces(trial, internal);
+              return detail::TrialMerits{(internal - f).norm(),
+                                         forces.energy(trial) - f.dot(trial)};
+            });
+        if (!accepted) {
+          throw SolverError(
+              "solve_reduced_static: line search found no decrease at " +
+              describe(step, options.load_steps, iteration, solution.residual_norm) +
+              "; the load may exceed what the model carries, or the tolerance be below round-off");
         }
+      } else {
+        trial = q + direction;
       }
       q = trial;
       ++solution.iterations;
