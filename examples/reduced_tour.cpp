@@ -109,7 +109,8 @@ int main(int argc, char** argv) {
     for (int v : tip) tip_modes += model.basis().vectors.middleRows<3>(3 * v) / tip.size();
 
     kr::PolynomialForces forces(model.energy_polynomial());
-    kr::ReducedNewmark integrator(forces, model.mass());
+    // The integrator settings the model file carries (Δt, Newmark, damping, Newton).
+    kr::ReducedNewmark integrator(forces, model.mass(), model.defaults().newmark_options());
     std::cout << "swing 1 (E = 1 MPa):\n";
     const Eigen::VectorXd deepest = swing(integrator, reduced_force, tip_modes);
 

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
 
 namespace khz::reduced {
@@ -168,6 +170,35 @@ TEST(ReducedModel, RejectsBadBasesAndMaterialCalls) {
   EXPECT_TRUE(
       test::throws_with_message<Error>([&] { reduced.set_density(2, 1.0); }, "no material group"));
   EXPECT_TRUE(test::throws_with_message<Error>([&] { reduced.set_density(0, -1.0); }, "positive"));
+}
+
+TEST(ReducedModel, IntegratorDefaultsAreValidatedAsNewmarkOptions) {
+  const TwoMaterialBox box(false, 3);
+  ReducedModel reduced = ReducedModel::precompute(box.model, box.basis);
+  ReducedIntegratorDefaults defaults;
+  defaults.newmark.time_step = 2e-4;
+  defaults.newmark.mass_damping = 0.5;
+  defaults.max_newton_iterations = 4;
+  defaults.newton_tolerance = 1e-7;
+  reduced.set_defaults(defaults);
+  const ReducedNewmarkOptions options = reduced.defaults().newmark_options();
+  EXPECT_EQ(options.newmark.time_step, 2e-4);
+  EXPECT_EQ(options.newmark.mass_damping, 0.5);
+  EXPECT_EQ(options.max_newton_iterations, 4);
+  EXPECT_EQ(options.tolerance, 1e-7);
+  EXPECT_TRUE(std::isinf(options.acceleration_limit));
+
+  ReducedIntegratorDefaults bad = defaults;
+  bad.max_newton_iterations = 0;
+  EXPECT_TRUE(test::throws_with_message<Error>([&] { reduced.set_defaults(bad); },
+                                               "max_newton_iterations"));
+  bad = defaults;
+  bad.newton_tolerance = std::numeric_limits<double>::infinity();
+  EXPECT_TRUE(test::throws_with_message<Error>([&] { reduced.set_defaults(bad); }, "tolerance"));
+  bad = defaults;
+  bad.newmark.beta = 0.0;  // explicit: not for the implicit integrator the defaults are for
+  EXPECT_THROW(reduced.set_defaults(bad), Error);
+  EXPECT_EQ(reduced.defaults().max_newton_iterations, 4);  // unchanged by the failures
 }
 
 TEST(ReducedModel, ProgressCanCancel) {

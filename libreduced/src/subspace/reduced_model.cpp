@@ -116,14 +116,16 @@ ReducedModel ReducedModel::from_parts(Basis basis, std::vector<ReducedMaterialGr
   return model;
 }
 
+ReducedNewmarkOptions ReducedIntegratorDefaults::newmark_options() const {
+  ReducedNewmarkOptions options;
+  options.newmark = newmark;
+  options.max_newton_iterations = max_newton_iterations;
+  options.tolerance = newton_tolerance;
+  return options;
+}
+
 void ReducedModel::set_defaults(const ReducedIntegratorDefaults& defaults) {
-  defaults.newmark.validate();
-  if (defaults.max_newton_iterations < 1) {
-    throw Error("ReducedModel: max_newton_iterations must be at least 1");
-  }
-  if (!(defaults.newton_tolerance > 0) || !std::isfinite(defaults.newton_tolerance)) {
-    throw Error("ReducedModel: newton_tolerance must be positive and finite");
-  }
+  defaults.newmark_options().validate();
   m_defaults = defaults;
 }
 

@@ -8,6 +8,7 @@
 #include <khz/reduced/progress.hpp>
 #include <khz/reduced/solvers/newmark_parameters.hpp>
 #include <khz/reduced/subspace/energy_polynomial.hpp>
+#include <khz/reduced/subspace/reduced_newmark.hpp>
 
 #include <Eigen/Core>
 
@@ -36,10 +37,14 @@ struct KHZ_REDUCED_API ReducedMaterialGroup {
 };
 
 /// Integrator settings a model file carries, so a prepared model runs as it was tuned.
-struct ReducedIntegratorDefaults {
+struct KHZ_REDUCED_API ReducedIntegratorDefaults {
   NewmarkParameters newmark;       ///< Δt, β̃, γ̃, Rayleigh α and β.
   int max_newton_iterations = 1;   ///< j_max (thesis §2.9: one, semi-implicit).
   double newton_tolerance = 1e-9;  ///< Relative residual at which Newton stops early.
+
+  /// These settings as ReducedNewmark options (no acceleration limit): what a model's user
+  /// passes to its integrator.
+  ReducedNewmarkOptions newmark_options() const;
 };
 
 /// Options of ReducedModel::precompute().
@@ -70,7 +75,7 @@ class KHZ_REDUCED_API ReducedModel {
   const Basis& basis() const noexcept { return m_basis; }
   const std::vector<ReducedMaterialGroup>& groups() const noexcept { return m_groups; }
   const ReducedIntegratorDefaults& defaults() const noexcept { return m_defaults; }
-  /// @throws Error if the defaults are invalid.
+  /// @throws Error (ReducedNewmarkOptions::validate()'s) if the defaults are invalid.
   void set_defaults(const ReducedIntegratorDefaults& defaults);
 
   /// Sets an StVK group's Lamé parameters (Pa). @throws Error for a general group or invalid
