@@ -1,0 +1,26 @@
+#pragma once
+// What every distance-field object offers the contact query: sampled grids, analytic shapes and
+// (later) deformed fields all answer the same two questions, so the query is written once as a
+// template over this concept, with no virtual call per point (thesis §3.5, §3.11, §3.11.1).
+
+#include <Eigen/Core>
+
+#include <concepts>
+
+namespace khz::contact {
+
+/// A signed distance d(p) to an object, in its own frame: negative inside, metres.
+/// - distance(p): d(p), or where d is not known exactly (e.g. outside a grid's box) a lower
+///   bound, so that culling by it never misses a contact.
+/// - distance_and_gradient(p, g): the same value, and in g the gradient of the function whose
+///   value is returned (not normalized).
+/// Both are noexcept, allocate nothing, are thread-safe (const) and are finite for finite p.
+template <typename Field>
+concept DistanceField = requires(const Field& field, const Eigen::Vector3d& p, Eigen::Vector3d& g) {
+  { field.distance(p) }
+  noexcept->std::same_as<double>;
+  { field.distance_and_gradient(p, g) }
+  noexcept->std::same_as<double>;
+};
+
+}  // namespace khz::contact

@@ -1,0 +1,62 @@
+#pragma once
+// A distance field sampled on a regular cubic grid, queried by trilinear interpolation
+// (thesis §3.11).
+
+#include <khz/contact/export.hpp>
+#include <khz/contact/field/grid_geometry.hpp>
+
+#include <Eigen/Core>
+
+#include <span>
+#include <vector>
+
+namespace khz::contact {
+
+/// Distance values (float, metres) at the nodes of a GridGeometry: signed (negative inside) or
+/// unsigned. Immutable after construction; queries are thread-safe, allocation-free and satisfy
+/// the DistanceField concept.
+///
+/// Inside the grid's box, distance() interpolates the eight nodes of the cell trilinearly.
+/// Outside, the distance is not known; distance() returns the conservative lower bound of
+/// inequality 3.14, d(p) ≥ d_box(p) + d_boundary, with d_box the distance from p to the box and
+/// d_boundary = boundary_minimum(), so that a contact query culling by it never misses contact
+/// and points far from the box are culled early.
+class KHZ_CONTACT_API DistanceGrid {
+ public:
+  /// @param values geometry.node_count() node values, x fastest (GridGeometry::node_index()).
+  /// @param is_signed whether the values are signed distances (negative inside) rather than
+  ///        unsigned ones; it only describes them (files, VTK export, soups).
+  /// @throws Error if the geometry is invalid, the value count does not match, or a value is not
+  ///         finite.
+  DistanceGrid(const GridGeometry& geometry, std::vector<float> values, bool is_signed);
+
+  const GridGeometry& geometry() const noexcept { return m_geometry; }
+  bool is_signed() const noexcept { return m_signed; }
+  /// All node values, x fastest.
+  std::span<const float> values() const noexcept { return m_values; }
+  /// The value at node (i, j, k); indices are not checked (asserted in debug builds).
+  float node(int i, int j, int k) const noexcept;
+
+  /// d_boundary of inequality 3.14: a lower bound of the distance anywhere on the box's surface,
+  /// the smallest boundary node value less the largest distance from a point of a boundary face
+  /// to its nearest node (h/√2), since a distance function changes no faster than the distance
+  /// travelled.
+  double boundary_minimum() const noexcept { return m_boundary_minimum; }
+
+  /// Trilinear value inside the box (its surface included); the bound of inequality 3.14
+  /// outside.
+  double distance(const Eigen::Vector3d& p) const noexcept;
+  /// distance(p), and in `gradient` the gradient of the returned function: of the trilinear
+  /// interpolant inside (continuous within a cell, not across cell faces), of d_box outside
+  /// (the unit vector from the box towards p).
+  double distance_and_gradient(const Eigen::Vector3d& p, Eigen::Vector3d& gradient) const noexcept;
+
+ private:
+  GridGeometry m_geometry;
+  std::vector<float> m_values;
+  bool m_signed;
+  double m_boundary_minimum;
+  double m_inverse_spacing;
+};
+
+}  // namespace khz::contact
