@@ -4,6 +4,7 @@
 #include <khz/test/allocation_probe.hpp>
 #include <khz/test/analytic_reduced_forces.hpp>
 #include <khz/test/fixtures.hpp>
+#include <khz/test/newmark_options.hpp>
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
@@ -24,16 +25,10 @@ constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
 Eigen::MatrixXd identity(Eigen::Index r) { return Eigen::MatrixXd::Identity(r, r); }
 
-/// Trapezoidal rule (β̃ = ¼, γ̃ = ½) with the given step, Newton iterations and damping.
+/// Trapezoidal rule with a tolerance near round-off.
 ReducedNewmarkOptions options_with(double time_step, int iterations = 1, double mass_damping = 0.0,
                                    double stiffness_damping = 0.0) {
-  ReducedNewmarkOptions options;
-  options.newmark.time_step = time_step;
-  options.newmark.mass_damping = mass_damping;
-  options.newmark.stiffness_damping = stiffness_damping;
-  options.max_newton_iterations = iterations;
-  options.tolerance = 1e-12;
-  return options;
+  return test::trapezoidal_options(time_step, iterations, 1e-12, mass_damping, stiffness_damping);
 }
 
 /// Three springs k = 100 (fastest linear period ≈ 0.35 s); κ = 1e4 doubles a spring's force at

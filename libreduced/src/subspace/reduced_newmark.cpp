@@ -48,6 +48,11 @@ struct ReducedNewmark::Data {
   /// forces and stiffness evaluated at q_i.
   double acceleration_scale(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept;
 
+  /// Keeps a step limited by `scale` < 1 from adding energy (see
+  /// ReducedNewmarkOptions::acceleration_limit): when the strain energy rose by ΔE > 0 from q_i to
+  /// `next`, takes (1 − s)ΔE out of the kinetic energy of `velocity`.
+  void remove_spurious_energy(double scale) noexcept;
+
   ReducedNewmarkOptions options;
   NewmarkConstants constants;
   detail::ReducedState state;
@@ -75,6 +80,15 @@ double ReducedNewmark::Data::acceleration_scale(
   const double norm = work.norm();
   // A non-finite norm is left to the residual test, which then fails the step.
   return norm > options.acceleration_limit ? options.acceleration_limit / norm : 1.0;
+}
+
+void ReducedNewmark::Data::remove_spurious_energy(double scale) noexcept {
+  const double spurious =
+      (1.0 - scale) * (state.forces.energy(next) - state.forces.energy(state.q));
+  if (!(spurious > 0.0)) return;
+  state.multiply_mass(velocity, work);
+  const double kinetic = 0.5 * velocity.dot(work);
+  velocity *= kinetic > spurious ? std::sqrt(1.0 - spurious / kinetic) : 0.0;
 }
 
 ReducedNewmark::ReducedNewmark(ReducedForceModel& forces, const Eigen::MatrixXd& mass,
@@ -161,6 +175,7 @@ ReducedStepReport ReducedNewmark::step(
   if (!d.next.allFinite() || !d.velocity.allFinite() || !d.acceleration.allFinite()) {
     return report;
   }
+  if (scale < 1.0) d.remove_spurious_energy(scale);
   s.q = d.next;
   s.velocity = d.velocity;
   s.acceleration = d.acceleration;

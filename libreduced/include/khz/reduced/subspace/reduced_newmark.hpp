@@ -35,10 +35,15 @@ struct KHZ_REDUCED_API ReducedNewmarkOptions {
   /// A = α1 M̃ + s (α4 C̃ + K̃). The step thus moves as if the mass were M̃ / s and starts with
   /// an acceleration of norm exactly `limit`; the end-of-step q̈ of a converged step is s times
   /// the end-of-step force balance, so it exceeds the limit only by as much as the forces
-  /// change within the step. Limiting chops accelerations rather than following the physics (a
-  /// limited step does not conserve energy): a safety net for haptics, where a quick push or the
-  /// release of a strained object would otherwise produce accelerations the contact bounds do not
-  /// expect.
+  /// change within the step. Moving as if the mass were M̃ / s, a limited step trades strain for
+  /// kinetic energy at the rate s: the total falls by (1 − s)ΔE while the strain energy falls by
+  /// ΔE, but would rise by (1 − s)ΔE while it rises, pumping energy into an object that swings
+  /// back against the limit (a released 215° twist gained 3× its energy in 300 steps). So a
+  /// limited step whose strain energy rose by ΔE > 0 also takes (1 − s)ΔE out of its kinetic
+  /// energy, scaling q̇ (down to zero at most): limited steps never add energy beyond the work of
+  /// the (scaled) external force. Limiting chops accelerations rather than following the
+  /// physics: a safety net for haptics, where a quick push or the release of a strained object
+  /// would otherwise produce accelerations the contact bounds do not expect.
   double acceleration_limit = std::numeric_limits<double>::infinity();
 
   /// @throws Error naming the first invalid option (Newmark parameters, β̃ = 0,
