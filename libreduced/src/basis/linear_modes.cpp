@@ -1,5 +1,5 @@
 // Linear modal analysis by ARPACK in shift-invert mode (thesis eq. 2.43, §2.8.7).
-#include "../detail/stage_progress.hpp"
+#include <khz/reduced/stage_progress.hpp>
 #include "modal_problem.hpp"
 
 #include <khz/reduced/basis/linear_modes.hpp>
@@ -54,7 +54,7 @@ Eigenpairs lowest_eigenpairs(const detail::ModalProblem& problem, int count,
   const int ncv = std::min(n, std::max(2 * count + 1, 20));
   // Operator applications: ~ncv for the first Lanczos factorization, then ncv − count per
   // restart; a few restarts is typical.
-  detail::StageProgress progress(options.progress, "linear modes", 1 + 4 * ncv);
+  StageProgress progress(options.progress, "linear modes", 1 + 4 * ncv);
   const SparseCholesky shifted = problem.factorize_shifted();
   progress.advance();
 

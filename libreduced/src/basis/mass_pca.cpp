@@ -1,5 +1,5 @@
 // Mass-weighted PCA (thesis §2.8.1).
-#include "../detail/stage_progress.hpp"
+#include <khz/reduced/stage_progress.hpp>
 #include "../detail/tall_qr.hpp"
 
 #include <khz/reduced/basis/mass_pca.hpp>
@@ -109,7 +109,7 @@ void normalize_signs(Eigen::MatrixXd& basis) {
 PcaResult principal_components(const Eigen::MatrixXd& samples, const SparseMatrix& mass,
                                const PcaOptions& options) {
   check_inputs(samples, mass, options);
-  detail::StageProgress progress(options.progress, "mass PCA", 4);
+  StageProgress progress(options.progress, "mass PCA", 4);
 
   const MetricCoordinates coordinates(mass, options.metric);
   const Eigen::MatrixXd z = coordinates.to_metric(samples);

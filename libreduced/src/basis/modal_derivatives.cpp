@@ -1,5 +1,5 @@
 // Modal derivatives (thesis §2.8.3 eq. 2.47 for anchored objects, §2.8.7 eq. 2.60 for free ones).
-#include "../detail/stage_progress.hpp"
+#include <khz/reduced/stage_progress.hpp>
 #include "block_minres.hpp"
 #include "modal_problem.hpp"
 
@@ -42,7 +42,7 @@ Eigen::MatrixXd hessian_products(const FemModel& model, const LinearModes& modes
                                  const std::vector<std::array<int, 2>>& pairs,
                                  const ProgressCallback& callback) {
   const Eigen::Index k = modes.modes.cols();
-  detail::StageProgress progress(callback, "Hessian contractions", k);
+  StageProgress progress(callback, "Hessian contractions", k);
   Eigen::MatrixXd products(model.num_dofs(), static_cast<Eigen::Index>(pairs.size()));
   for (int j = 0; j < k; ++j) {
     const SparseMatrix contraction = model.hessian_contraction(modes.modes.col(j));
@@ -60,7 +60,7 @@ Eigen::MatrixXd hessian_products(const FemModel& model, const LinearModes& modes
 void solve_anchored(const detail::ModalProblem& problem, const Eigen::MatrixXd& products,
                     const ModalDerivativesOptions& options, ModalDerivatives& result) {
   const Eigen::Index count = products.cols();
-  detail::StageProgress progress(options.progress, "modal derivatives", count);
+  StageProgress progress(options.progress, "modal derivatives", count);
   const SparseCholesky stiffness = problem.factorize_shifted();  // σ = 0: K itself
   const Eigen::MatrixXd rhs = -problem.dofs().restrict_rows(products);
   result.vectors.resize(products.rows(), count);
@@ -83,7 +83,7 @@ void solve_unconstrained(const detail::ModalProblem& problem, const LinearModes&
                          const Eigen::MatrixXd& products, const ModalDerivativesOptions& options,
                          ModalDerivatives& result) {
   const Eigen::Index count = products.cols();
-  detail::StageProgress progress(options.progress, "modal derivatives", count);
+  StageProgress progress(options.progress, "modal derivatives", count);
   const SparseCholesky preconditioner = problem.factorize_shifted();  // K − σM, σ < 0
   const SparseMatrix& mass = problem.mass();
   const Eigen::Index k = modes.modes.cols();

@@ -1,8 +1,8 @@
 #include <khz/reduced/basis/sample_selection.hpp>
 #include <khz/reduced/errors.hpp>
 
+#include <khz/reduced/stage_progress.hpp>
 #include "detail/number_text.hpp"
-#include "detail/stage_progress.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -143,7 +143,7 @@ Eigen::MatrixXd mass_distances(const Eigen::MatrixXd& samples, const SparseMatri
   }
   const Eigen::Index n = samples.cols();
   const std::int64_t blocks = (n + distance_block - 1) / distance_block;
-  detail::StageProgress progress_stage(progress, "mass distances", blocks);
+  StageProgress progress_stage(progress, "mass distances", blocks);
   // The upper triangle of G = XᵀMX, a block of columns at a time.
   Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(n, n);
   for (Eigen::Index start = 0; start < n; start += distance_block) {

@@ -2,9 +2,9 @@
 #include <khz/reduced/basis/sketch_basis.hpp>
 #include <khz/reduced/errors.hpp>
 
+#include <khz/reduced/stage_progress.hpp>
 #include "basis/generator_support.hpp"
 #include "detail/number_text.hpp"
-#include "detail/stage_progress.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -84,7 +84,7 @@ Basis sketch_basis(const FemModel& model, std::span<const int> fixed_vertices,
   report.num_loads = static_cast<int>(loads.size());
 
   // 1. Loads thinned to δ_f in the Euclidean norm of the force vectors, densest first.
-  detail::StageProgress force_stage(progress, "force selection", 1);
+  StageProgress force_stage(progress, "force selection", 1);
   report.selected_loads =
       select_separated_samples(force_distances(loads),
                                {options.force_separation, options.force_kernel_width})
@@ -93,7 +93,7 @@ Basis sketch_basis(const FemModel& model, std::span<const int> fixed_vertices,
 
   // 2. One full nonlinear static solve R(u) = f per retained load (thesis §2.1.10).
   const auto num_selected = static_cast<std::int64_t>(report.selected_loads.size());
-  detail::StageProgress solve_stage(progress, "static solves", num_selected);
+  StageProgress solve_stage(progress, "static solves", num_selected);
   Eigen::MatrixXd solutions(model.num_dofs(), static_cast<Eigen::Index>(num_selected));
   std::vector<int> solved_loads;
   // Each Newton iteration of a solve re-asks the caller (same `done`), so cancelling does not
@@ -136,7 +136,7 @@ Basis sketch_basis(const FemModel& model, std::span<const int> fixed_vertices,
       options.metric == PcaMetric::lumped_mass
           ? mass_distances(solutions, model.mass_matrix(MassLumping::lumped), progress)
           : mass_distances(solutions, mass, progress);
-  detail::StageProgress deformation_stage(progress, "deformation selection", 1);
+  StageProgress deformation_stage(progress, "deformation selection", 1);
   const std::vector<int> kept_columns =
       select_separated_samples(distances,
                                {options.deformation_separation, options.deformation_kernel_width})

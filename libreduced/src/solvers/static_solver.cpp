@@ -1,5 +1,5 @@
+#include <khz/reduced/stage_progress.hpp>
 #include "../detail/backtracking_line_search.hpp"
-#include "../detail/stage_progress.hpp"
 
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/solvers/fixed_dofs.hpp>
@@ -72,7 +72,7 @@ StaticSolution solve_static(const FemModel& model, std::span<const int> fixed_ve
   Eigen::VectorXd forces_full;
 
   // Thesis §2.1.10: Newton–Raphson on R(u) = f, here with the load applied in increments.
-  detail::StageProgress progress(options.progress, "static solve", options.load_steps);
+  StageProgress progress(options.progress, "static solve", options.load_steps);
   for (int step = 1; step <= options.load_steps; ++step) {
     const Eigen::VectorXd f = f_total * (static_cast<double>(step) / options.load_steps);
     for (int iteration = 0;; ++iteration) {

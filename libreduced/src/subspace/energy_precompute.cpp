@@ -1,6 +1,6 @@
 #include "subspace/energy_precompute.hpp"
 
-#include "detail/stage_progress.hpp"
+#include <khz/reduced/stage_progress.hpp>
 
 #include <Eigen/Dense>
 

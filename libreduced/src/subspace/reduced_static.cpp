@@ -1,8 +1,8 @@
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/subspace/reduced_static.hpp>
 
+#include <khz/reduced/stage_progress.hpp>
 #include "detail/backtracking_line_search.hpp"
-#include "detail/stage_progress.hpp"
 #include "subspace/dense_symmetric_solve.hpp"
 
 #include <algorithm>
@@ -62,7 +62,7 @@ ReducedStaticSolution solve_reduced_static(ReducedForceModel& forces,
   Eigen::VectorXd residual(r), direction(r), trial(r);
 
   // Thesis §2.1.10: Newton–Raphson on R̃(q) = f̃, here with the load applied in increments.
-  detail::StageProgress progress(options.progress, "reduced static solve", options.load_steps);
+  StageProgress progress(options.progress, "reduced static solve", options.load_steps);
   for (int step = 1; step <= options.load_steps; ++step) {
     const double fraction = static_cast<double>(step) / options.load_steps;
     const Eigen::VectorXd f = start_force + fraction * (external_force - start_force);

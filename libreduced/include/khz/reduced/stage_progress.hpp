@@ -1,6 +1,7 @@
 #pragma once
 // Reports one stage of a long computation to a ProgressCallback and turns a cancel request
-// into the Cancelled exception.
+// into the Cancelled exception: what every Kilohertz precomputation uses, public so that the
+// libraries built on libreduced (and users' own precomputations) keep the same contract.
 
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/progress.hpp>
@@ -10,9 +11,11 @@
 #include <string>
 #include <string_view>
 
-namespace khz::reduced::detail {
+namespace khz::reduced {
 
 /// Counts the finished units of one stage; every report asks the callback whether to go on.
+/// Call it from the thread that started the computation, outside OpenMP regions (an exception
+/// must not leave one): parallel loops run in chunks with a report between chunks.
 class StageProgress {
  public:
   /// Reports done = 0 of `total` (clamped to ≥ 1) units of `stage`.
@@ -57,4 +60,4 @@ class StageProgress {
   std::int64_t m_reported_done = -1;
 };
 
-}  // namespace khz::reduced::detail
+}  // namespace khz::reduced
