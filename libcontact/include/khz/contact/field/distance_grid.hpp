@@ -21,6 +21,14 @@ namespace khz::contact {
 /// inequality 3.14, d(p) ≥ d_box(p) + d_boundary, with d_box the distance from p to the box and
 /// d_boundary = boundary_minimum(), so that a contact query culling by it never misses contact
 /// and points far from the box are culled early.
+///
+/// Speed (bench_distance_field, BM_DistanceGridLookup, 129³ nodes, one core of this project's
+/// Xeon): distance() about 61 M queries/s at random points of the box, 70 M/s at points within
+/// a few cells of each other; distance_and_gradient() 55 and 65 M/s. The IEEE-mantissa voxel
+/// indexing of thesis §3.11 (for 2^k cells, cell index and fraction read from the mantissa of
+/// 1 + w, no float-to-int conversion) was measured against this code's truncation in the same
+/// loop: 64 against 66 M/s from memory, 74 against 72 M/s in cache. The conversion stalls no
+/// pipeline on current CPUs, so the trick is left out.
 class KHZ_CONTACT_API DistanceGrid {
  public:
   /// @param values geometry.node_count() node values, x fastest (GridGeometry::node_index()).
