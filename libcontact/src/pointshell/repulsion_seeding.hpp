@@ -1,0 +1,37 @@
+#pragma once
+// Starting positions of one level of particle repulsion (thesis §3.8.1): area-weighted random
+// points of the triangulated level set, moved onto the level set of the interpolated field.
+
+#include <khz/contact/common.hpp>
+#include <khz/contact/field/distance_grid.hpp>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <vector>
+
+namespace khz::contact::detail {
+
+/// Where seed_level() puts its particles and what it needs to know.
+struct SeedingTarget {
+  double level = 0.0;                 ///< The level set (m).
+  double projection_tolerance = 0.0;  ///< ε (m).
+  double projection_max_step = 0.0;   ///< Longest Newton step (m).
+};
+
+/// Fills rows [begin, end) of `points` with area-weighted random points of `level_set` (the
+/// marching-tetrahedra triangulation of the level set, random_pointshell()), each projected onto
+/// the level set of `field`, and `normals` (indexed by row) with the unit field gradient there.
+/// The two level sets differ inside cells — by far less than a cell, except on features no
+/// thicker than a cell, where the trilinear one can lack a piece the triangulation has; a
+/// sample whose projection fails is replaced by a fresh one, up to 8 times. The rows are then
+/// ordered along a Morton curve, for memory locality. Reproducible for a seed, on any thread
+/// count.
+/// @returns the number of rows left off the level set (their positions are samples of
+///          `level_set`, their normals the triangles' outward normals).
+Eigen::Index seed_level(const DistanceGrid& field, const TriangleMesh& level_set,
+                        const SeedingTarget& target, std::uint64_t seed, Eigen::Index begin,
+                        Eigen::Index end, PointMatrix& points,
+                        std::vector<Eigen::Vector3d>& normals);
+
+}  // namespace khz::contact::detail
