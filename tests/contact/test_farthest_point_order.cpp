@@ -1,6 +1,7 @@
 #include <khz/contact/pointshell/farthest_point_order.hpp>
 #include <khz/contact/pointshell/nested_levels.hpp>
 #include <khz/contact/pointshell/pointshell_sampling.hpp>
+#include <khz/reduced/mesh/surface_area.hpp>
 #include <khz/test/generated_meshes.hpp>
 
 #include <gtest/gtest.h>
@@ -21,17 +22,6 @@ namespace {
 /// Random points on a unit sphere mesh, one flat level.
 Pointshell sphere_samples(Eigen::Index count, std::uint64_t seed = 1) {
   return random_pointshell(test::uv_sphere(32, 16), count, seed);
-}
-
-double mesh_area(const TriangleMesh& mesh) {
-  double area = 0;
-  for (Eigen::Index t = 0; t < mesh.num_triangles(); ++t) {
-    const Eigen::Vector3d a = mesh.vertices.row(mesh.triangles(t, 0)).transpose();
-    const Eigen::Vector3d b = mesh.vertices.row(mesh.triangles(t, 1)).transpose();
-    const Eigen::Vector3d c = mesh.vertices.row(mesh.triangles(t, 2)).transpose();
-    area += 0.5 * (b - a).cross(c - a).norm();
-  }
-  return area;
 }
 
 /// Brute force: the largest distance from any of `points` to its nearest among `centres`.
@@ -218,7 +208,7 @@ TEST(NestedPointshell, LevelsArePrefixesThatCoverTheSurfaceEverFiner) {
   // k caps of chordal radius r/2 are disjoint; on a sphere such a cap has area π(r/2)²
   // (Archimedes), so r ≤ 2√(A/(πk)) — with 5% for the inscribed mesh's points. Measured ratios
   // to that bound: 0.73, 0.67, 0.65, 0.59.
-  const double area = mesh_area(sphere);
+  const double area = reduced::surface_area(sphere);
   double previous = std::numeric_limits<double>::infinity();
   for (int level = 0; level + 1 < nested.num_levels(); ++level) {
     const Eigen::Index k = nested.level_end(level);

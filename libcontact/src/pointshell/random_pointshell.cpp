@@ -1,4 +1,5 @@
 #include <khz/contact/pointshell/pointshell_sampling.hpp>
+#include <khz/reduced/mesh/surface_area.hpp>
 
 #include "pointshell/split_mix.hpp"
 
@@ -22,10 +23,7 @@ Pointshell random_pointshell(const TriangleMesh& mesh, Eigen::Index count, std::
   std::vector<double> cumulative(static_cast<std::size_t>(triangles));
   double total = 0.0;
   for (Eigen::Index t = 0; t < triangles; ++t) {
-    const Eigen::Vector3d a = mesh.vertices.row(mesh.triangles(t, 0)).transpose();
-    const Eigen::Vector3d b = mesh.vertices.row(mesh.triangles(t, 1)).transpose();
-    const Eigen::Vector3d c = mesh.vertices.row(mesh.triangles(t, 2)).transpose();
-    total += 0.5 * (b - a).cross(c - a).norm();
+    total += reduced::triangle_area(mesh, t);
     cumulative[static_cast<std::size_t>(t)] = total;
   }
   if (!(total > 0.0)) throw Error("random_pointshell: the mesh has zero area");

@@ -4,7 +4,9 @@
 #include <khz/contact/field/mesh_distance.hpp>
 #include <khz/contact/pointshell/pointshell_sampling.hpp>
 
+#include <khz/reduced/mesh/surface_area.hpp>
 #include <khz/reduced/stage_progress.hpp>
+
 #include "pointshell/repulsion_relaxation.hpp"
 #include "pointshell/repulsion_seeding.hpp"
 #include "pointshell/repulsion_spacing.hpp"
@@ -35,17 +37,6 @@ constexpr double max_move_factor = 0.5;
 // tight ε costs one step more.
 constexpr double default_projection_tolerance = 1e-4;
 
-double total_area(const TriangleMesh& mesh) {
-  double area = 0.0;
-  for (Eigen::Index t = 0; t < mesh.num_triangles(); ++t) {
-    const Eigen::Vector3d a = mesh.vertices.row(mesh.triangles(t, 0)).transpose();
-    const Eigen::Vector3d b = mesh.vertices.row(mesh.triangles(t, 1)).transpose();
-    const Eigen::Vector3d c = mesh.vertices.row(mesh.triangles(t, 2)).transpose();
-    area += 0.5 * (b - a).cross(c - a).norm();
-  }
-  return area;
-}
-
 }  // namespace
 
 Pointshell repulsion_pointshell(const DistanceGrid& field, double level,
@@ -70,7 +61,7 @@ Pointshell repulsion_pointshell(const DistanceGrid& field, double level,
     throw Error("repulsion_pointshell: the level set {d = " + std::to_string(level) +
                 "} does not cross the grid");
   }
-  const double area = total_area(level_set);
+  const double area = reduced::surface_area(level_set);
 
   RepulsionReport summary;
   summary.level_set_area = area;
