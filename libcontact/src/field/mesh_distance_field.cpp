@@ -1,4 +1,5 @@
 #include <khz/contact/field/mesh_distance_field.hpp>
+#include <khz/reduced/stage_progress.hpp>
 
 #include <omp.h>
 
@@ -92,34 +93,6 @@ class SlotWords {
 
  private:
   float* m_data;
-};
-
-/// Stage "distance field" of a ProgressCallback; a false answer becomes Cancelled.
-class FieldProgress {
- public:
-  FieldProgress(const ProgressCallback& callback, std::int64_t total)
-      : m_callback(callback), m_total(std::max<std::int64_t>(total, 1)) {
-    report();
-  }
-  void advance() {
-    m_done = std::min(m_total, m_done + 1);
-    report();
-  }
-  void finish() {
-    if (m_done == m_total) return;
-    m_done = m_total;
-    report();
-  }
-
- private:
-  void report() const {
-    if (m_callback && !m_callback(Progress{stage_name, m_done, m_total})) {
-      throw Cancelled("cancelled during " + std::string(stage_name));
-    }
-  }
-  const ProgressCallback& m_callback;
-  std::int64_t m_total;
-  std::int64_t m_done = 0;
 };
 
 int ceil_div(int a, int b) { return (a + b - 1) / b; }
@@ -485,9 +458,10 @@ DistanceGrid distance_field(const std::string& caller, const TriangleMesh& mesh,
   const int plane_units = ceil_div(n, planes_per_unit);
   // Whether a closest point can lie outside the box (then the faces' nodes are seeded).
   const bool seed_boundary = !geometry.box().contains(vertex_bounds(mesh));
-  FieldProgress progress(options.progress, ceil_div(n, block_nodes) +
-                                               (seed_boundary ? plane_units : 0) + 6 * sweep_units +
-                                               (is_signed ? plane_units + 1 : 0) + plane_units);
+  reduced::StageProgress progress(options.progress, stage_name,
+                                  ceil_div(n, block_nodes) + (seed_boundary ? plane_units : 0) +
+                                      6 * sweep_units + (is_signed ? plane_units + 1 : 0) +
+                                      plane_units);
 
   std::vector<float> values(static_cast<std::size_t>(geometry.node_count()));
   FieldBuilder builder(mesh, geometry, options.exact_band, is_signed, values);
