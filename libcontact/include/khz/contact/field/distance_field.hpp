@@ -23,4 +23,19 @@ concept DistanceField = requires(const Field& field, const Eigen::Vector3d& p, E
   noexcept->std::same_as<double>;
 };
 
+/// A distance field of a reduced deformable object (thesis §3.12), in its current deformation:
+/// besides the distances it takes the reaction of a contact, so the contact query can apply it to
+/// the object's integrator.
+/// - dimension(): r, the object's number of reduced coordinates.
+/// - add_reduced_force(X, f, reduced): adds to `reduced` (r entries) the reduced force of force f
+///   (N, body frame) applied at X (m, body frame).
+template <typename Field>
+concept DeformableDistanceField = DistanceField<Field> &&
+    requires(const Field& field, const Eigen::Vector3d& x, Eigen::Ref<Eigen::VectorXd> reduced) {
+  { field.dimension() }
+  noexcept->std::convertible_to<Eigen::Index>;
+  { field.add_reduced_force(x, x, reduced) }
+  noexcept;
+};
+
 }  // namespace khz::contact

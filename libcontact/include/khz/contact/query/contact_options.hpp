@@ -1,0 +1,98 @@
+#pragma once
+// What a contact query is asked to do: the penalty model (thesis §3.5), the force gradients
+// (§4.2), graceful degradation (§3.10.3) and temporal coherence (§3.10.2).
+
+#include <khz/contact/common.hpp>
+#include <khz/contact/export.hpp>
+
+namespace khz::contact {
+
+/// Which of the two objects the user holds: the query reports the force and torque on it, and
+/// their gradients with respect to its motion. The thesis holds the distance-field object
+/// (§4.1); the other choice only flips the signs of the force and torque.
+enum class HapticObject { distance_field, pointshell };
+
+/// How ∂d/∂p enters the force gradients (§4.2).
+enum class ContactGradient {
+  /// The field's own gradient (eq. 4.5–4.8): the exact derivative of the force the query
+  /// returns wherever the field is differentiable.
+  field_gradient,
+  /// ∂d/∂p ≈ N, the point's normal (eq. 4.11–4.12), as the thesis ran it: no gradient lookup,
+  /// and no noise from the field's gradient jumping across cells or medial axes.
+  normal_direction,
+};
+
+/// Graceful degradation (§3.10.3): the traversal renders level after level and either
+/// completes a level or does not start it. Before entering level i+1 it predicts the cost of
+/// the whole query with that level, eq. 3.13:
+///   α (V_traversed + V_queued) + β (V_contact + V_contact / V_traversed · V_queued)
+/// (α = 1, β = contact_weight), and renders the level only if the prediction stays within the
+/// threshold: the warm one for levels no deeper than the deepest level of the previous query,
+/// the cold one, cold_fraction × warm, below it (so the level of detail does not flicker).
+struct KHZ_CONTACT_API DegradationOptions {
+  enum class Mode {
+    none,        ///< Every level, as deep as contact reaches.
+    node_count,  ///< Thresholds in cost units: warm_threshold (V_W of §3.10.3).
+    /// Thresholds in time: the query measures its cost per unit as it runs (steady clock, a
+    /// few reads per query) and renders a level only if the time spent plus the level's
+    /// predicted time stays within budget_microseconds (warm) or cold_fraction of it (cold).
+    /// The cost per unit rises at once when a query is slower and falls slowly, so a budget
+    /// holds at the 99th percentile once the first queries have measured it.
+    time_budget,
+  };
+  Mode mode = Mode::none;
+  /// V_W in cost units (nodes traversed when contact_weight = 0); node_count mode, > 0.
+  double warm_threshold = 2500.0;
+  /// µs per query; time_budget mode, > 0.
+  double budget_microseconds = 250.0;
+  /// V_C / V_W, in (0, 1]; the thesis uses 0.8.
+  double cold_fraction = 0.8;
+  /// β/α of eq. 3.13: the extra cost of a point in contact (normal, force, gradients, reduced
+  /// force) in units of a traversed node, ≥ 0; the thesis suggests up to 1.5, and counts
+  /// traversed nodes only (0).
+  double contact_weight = 0.0;
+};
+
+/// Temporal coherence (§3.10.2): a node whose bounding sphere was a gap g away from contact is
+/// not visited again until motion could have closed the gap. The caller declares how far, per
+/// query, any pointshell point can move relative to the field object:
+///   translation + rotation · ρ + deformation   (m per query)
+/// with ρ the point's distance from the pointshell's reference point (the centre of its rest
+/// bounding box). Each query measures the motion that actually happened since the previous one
+/// (the relative pose, and for a deformable pointshell max_s ‖U_s‖·‖Δq‖); if it exceeds a
+/// declared bound, every cached skip is dropped before the traversal, so a skipped node is
+/// never in contact. Not used against a deformable distance field (its values change with the
+/// field's own deformation, which no bound here covers).
+struct KHZ_CONTACT_API CoherenceOptions {
+  bool enabled = false;
+  /// Largest motion (m) per query of the pointshell's reference point in the field's frame.
+  double max_translation = 0.0;
+  /// Largest relative rotation (rad) per query.
+  double max_rotation = 0.0;
+  /// Largest deformation displacement (m) per query of any pointshell point (0 for rigid ones).
+  double max_deformation = 0.0;
+  /// Largest number of queries a node is skipped for, ≥ 1 (then it is looked at again).
+  int max_skip = 4096;
+};
+
+/// The whole configuration of a contact query.
+struct KHZ_CONTACT_API ContactOptions {
+  /// k_C (N/m) of eq. 3.1, > 0.
+  double stiffness = 1000.0;
+  /// L of §3.5, > 0: when the (weighted) count ℓ of points in contact exceeds L the total force,
+  /// torque and gradients are scaled by L/ℓ, so stiffness stays bounded however many points
+  /// touch (the thesis uses 10).
+  double scaling_count = 10.0;
+  /// Deepest tree level to render, or −1 for all: a fixed level of detail (e.g. to measure the
+  /// force error per level, §3.5.1).
+  int max_level = -1;
+  HapticObject haptic_object = HapticObject::distance_field;
+  ContactGradient gradient = ContactGradient::field_gradient;
+  DegradationOptions degradation;
+  CoherenceOptions coherence;
+
+  /// @throws Error naming the first option out of range.
+  void validate() const;
+};
+
+}  // namespace khz::contact

@@ -1,0 +1,109 @@
+#pragma once
+// The per-pair state of the contact query: traversal lists, the per-cycle distance cache,
+// temporal-coherence skips and the warm level, allocated once so a query allocates nothing.
+
+#include <khz/contact/common.hpp>
+#include <khz/contact/export.hpp>
+#include <khz/contact/query/contact_options.hpp>
+#include <khz/contact/query/contact_result.hpp>
+#include <khz/contact/tree/deformable_point_tree.hpp>
+#include <khz/contact/tree/point_tree.hpp>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace khz::contact {
+
+namespace detail {
+struct TraversalAccess;
+}
+
+/// Everything one pointshell–field pair keeps from query to query. Create one per pair (and
+/// per thread); it belongs to the tree it was made for, which must outlive it. Memory: about
+/// 4 bytes per node and 12 per point.
+class KHZ_CONTACT_API ContactWorkspace {
+ public:
+  /// For a rigid pointshell.
+  /// @param field_dimension r of a deformable distance-field object (sizes
+  ///        ContactResult::field_reduced_force), 0 for a rigid field.
+  /// @throws Error if the options fail validate() or field_dimension < 0.
+  ContactWorkspace(const PointTree& tree, const ContactOptions& options,
+                   Eigen::Index field_dimension = 0);
+  /// For a deformable pointshell (sizes ContactResult::pointshell_reduced_force and measures
+  /// max_s ‖U_s‖ for temporal coherence, O(#points · r)).
+  ContactWorkspace(const DeformablePointTree& tree, const ContactOptions& options,
+                   Eigen::Index field_dimension = 0);
+
+  const ContactOptions& options() const noexcept { return m_options; }
+  /// Replaces the options (and reset()s).
+  /// @throws Error if they fail validate(); the workspace is unchanged then.
+  void set_options(const ContactOptions& options);
+
+  /// Optional per-point weights (§3.5, e.g. the surface area each point stands for, in units of
+  /// the mean): a point in contact adds w_s·k_C·d·N and counts w_s towards ℓ. Indexed like the
+  /// tree's points (PointTree::pointshell() order); empty restores weight 1.
+  /// @throws Error if the size is not the tree's point count or a weight is not finite and > 0.
+  void set_area_weights(std::vector<double> weights);
+
+  /// Forgets temporal coherence, the warm level and the measured cost per node: call it when
+  /// the objects jump (a teleport, a new scene), though a query also notices motion beyond the
+  /// declared bounds itself.
+  void reset() noexcept;
+
+  /// The last query's result.
+  const ContactResult& result() const noexcept { return m_result; }
+
+ private:
+  friend struct detail::TraversalAccess;
+
+  ContactWorkspace(const PointTree& tree, const ContactOptions& options,
+                   Eigen::Index pointshell_dimension, Eigen::Index field_dimension);
+
+  /// Starts a query's temporal coherence: advances the cycle, measures the relative motion since
+  /// the previous query (pointshell body → field body: `rotation`, `translation`; q of a
+  /// deformable pointshell or nullptr) and drops every skip if it exceeds the declared bounds.
+  void begin_coherence(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation,
+                       const double* q) noexcept;
+  /// The query after which a node culled with gap `gap` (m, > 0) at distance `reach` (m) from
+  /// the reference point (its sphere's far side) must be looked at again.
+  std::uint32_t coherent_skip_until(double gap, double reach) const noexcept;
+  /// time_budget mode: the cost per unit (s) to plan with, `elapsed` (s) into a query that has
+  /// done `units` so far.
+  double seconds_per_unit(double elapsed, double units) const noexcept;
+  /// After a query: keeps the level of detail and the measured cost per unit.
+  void end_degradation(int deepest_level, double seconds, double cost_units) noexcept;
+
+  ContactOptions m_options;
+  ContactResult m_result;
+  const void* m_tree_identity;  // the tree this workspace was made for
+  Eigen::Index m_nodes;
+  Eigen::Index m_points;
+  Eigen::Index m_pointshell_dimension;
+  Eigen::Index m_field_dimension;
+
+  std::vector<double> m_area_weights;       // per point; empty = 1
+  std::vector<double> m_point_distance;     // per point: d of this query's first visit
+  std::vector<std::int32_t> m_current;      // nodes of the level being traversed
+  std::vector<std::int32_t> m_next;         // nodes queued for the next level
+  Eigen::VectorXd m_abs_q;                  // |q| of a deformable pointshell, per query
+  Eigen::VectorXd m_contact_reduced_force;  // scratch: the unscaled Σ U_sᵀ f_s
+
+  // Temporal coherence.
+  std::vector<std::uint32_t> m_skip_until;  // per node: skip while m_cycle < this
+  std::uint32_t m_cycle = 0;
+  bool m_have_previous = false;
+  Eigen::Matrix3d m_previous_rotation;   // pointshell body → field body
+  Eigen::Vector3d m_previous_reference;  // reference point in the field frame
+  Eigen::VectorXd m_previous_q;
+  Eigen::Vector3d m_reference_point;  // pointshell body frame: rest bounding-box centre
+  double m_modes_norm = 0.0;          // max_s ‖U_s‖_F (deformable pointshells)
+
+  // Graceful degradation.
+  int m_warm_level = -1;
+  double m_seconds_per_unit = 0.0;  // time_budget: measured cost per unit
+};
+
+}  // namespace khz::contact

@@ -1,0 +1,356 @@
+#pragma once
+// The traversal behind query_contact() (thesis §3.10). Not part of the public interface: include
+// <khz/contact/query/contact_query.hpp>.
+
+#include <khz/contact/field/distance_field.hpp>
+#include <khz/contact/query/contact_frames.hpp>
+#include <khz/contact/query/contact_options.hpp>
+#include <khz/contact/query/contact_workspace.hpp>
+#include <khz/contact/tree/deformable_point_tree.hpp>
+#include <khz/contact/tree/point_tree.hpp>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <utility>
+
+namespace khz::contact::detail {
+
+/// The cross-product matrix ã of a: ã b = a × b.
+inline Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& a) noexcept {
+  Eigen::Matrix3d m;
+  m << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
+  return m;
+}
+
+/// A rigid pointshell's points as the traversal reads them.
+class RigidPoints {
+ public:
+  static constexpr bool deformable = false;
+  explicit RigidPoints(const PointTree& tree) noexcept
+      : m_tree(tree),
+        m_positions(tree.pointshell().points.data()),
+        m_normals(tree.pointshell().normals.data()) {}
+  const PointTree& tree() const noexcept { return m_tree; }
+  Eigen::Vector3d position(Eigen::Index s) const noexcept {
+    return Eigen::Map<const Eigen::Vector3d>(m_positions + 3 * s);
+  }
+  double radius(Eigen::Index node) const noexcept { return m_tree.node(node).rest_radius; }
+  Eigen::Vector3d normal(Eigen::Index s) const noexcept {
+    return Eigen::Map<const Eigen::Vector3d>(m_normals + 3 * s);
+  }
+  /// A rigid pointshell takes no reduced force.
+  void add_reduced_force(Eigen::Index, const Eigen::Vector3d&, Eigen::VectorXd&) const noexcept {}
+
+ private:
+  const PointTree& m_tree;
+  const double* m_positions;
+  const double* m_normals;
+};
+
+/// A reduced deformable pointshell's points in configuration q (eq. 3.6, 3.8, 3.12).
+class DeformablePoints {
+ public:
+  static constexpr bool deformable = true;
+  /// `abs_q`: |q|, r entries, alive for the traversal.
+  DeformablePoints(const DeformablePointTree& tree, const Eigen::Ref<const Eigen::VectorXd>& q,
+                   const double* abs_q) noexcept
+      : m_deformable(tree),
+        m_tree(tree.tree()),
+        m_q(q),
+        m_abs_q(abs_q),
+        m_r(tree.dimension()),
+        m_internal(tree.tree().num_internal_nodes()),
+        m_positions(tree.tree().pointshell().points.data()) {}
+  const PointTree& tree() const noexcept { return m_tree; }
+  Eigen::Vector3d position(Eigen::Index s) const noexcept {
+    // P_s + U_s q with U_s row-major 3×r: one pass over q serves the three rows.
+    const double* x = m_deformable.displacement_modes(s).data();
+    const double* y = x + m_r;
+    const double* z = y + m_r;
+    const double* q = m_q.data();
+    double sx = 0.0, sy = 0.0, sz = 0.0;
+    for (Eigen::Index j = 0; j < m_r; ++j) {
+      sx += x[j] * q[j];
+      sy += y[j] * q[j];
+      sz += z[j] * q[j];
+    }
+    const double* rest = m_positions + 3 * s;
+    return {rest[0] + sx, rest[1] + sy, rest[2] + sz};
+  }
+  double radius(Eigen::Index node) const noexcept {
+    double radius = m_tree.node(node).rest_radius;
+    if (node >= m_internal) return radius;
+    const double* a = m_deformable.radius_coefficients(node).data();
+    for (Eigen::Index j = 0; j < m_r; ++j) radius += a[j] * m_abs_q[j];
+    return radius;
+  }
+  Eigen::Vector3d normal(Eigen::Index s) const noexcept { return m_deformable.normal(s, m_q); }
+  const double* q_data() const noexcept { return m_q.data(); }
+  /// reduced += U_sᵀ f (f in the pointshell's body frame).
+  void add_reduced_force(Eigen::Index s, const Eigen::Vector3d& f,
+                         Eigen::VectorXd& reduced) const noexcept {
+    reduced.noalias() += m_deformable.displacement_modes(s).transpose() * f;
+  }
+
+ private:
+  const DeformablePointTree& m_deformable;
+  const PointTree& m_tree;
+  const Eigen::Ref<const Eigen::VectorXd>& m_q;
+  const double* m_abs_q;
+  Eigen::Index m_r;
+  Eigen::Index m_internal;
+  const double* m_positions;
+};
+
+/// Sums of the per-point contributions before the L/ℓ scaling, for the field object (§4.1–§4.2).
+struct ContactSums {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d force_by_translation = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d force_by_rotation = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d torque_by_translation = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d torque_by_rotation = Eigen::Matrix3d::Zero();
+  double weight = 0.0;  // ℓ, weighted
+
+  /// A point in contact at r from the grasp point (world), with depth d < 0, inward normal N
+  /// (world), field gradient g (world, or N under ContactGradient::normal_direction), weight w;
+  /// adds the force f = w k d N on the field object and the derivatives of f and r × f for the
+  /// point moving by (−Δx, −Δω) about the grasp point, its normal turning with it (eq. 4.4):
+  ///   ∂p/∂x = −I, ∂p/∂ω = r̃, ∂N/∂ω = Ñ
+  ///   ∂f/∂x = −w k N gᵀ,  ∂f/∂ω = w k (N gᵀ r̃ + d Ñ)
+  ///   ∂(r×f)/∂ω = −f̃ r̃ + r̃ ∂f/∂ω     (eq. 4.9)
+  ///   ∂(r×f)/∂x = r̃ ∂f/∂x, plus f̃ when the grasp point moves with the field object (it is
+  ///   added to the sum by the caller: Σ f̃ is the total force's cross matrix).
+  /// These are eq. 4.5–4.8 with the torque terms' signs as this construction gives them; the
+  /// finite-difference tests in test_contact_query check every one.
+  void add(const Eigen::Vector3d& r, double d, const Eigen::Vector3d& normal,
+           const Eigen::Vector3d& gradient, double wk) noexcept {
+    const Eigen::Vector3d f = wk * d * normal;
+    const Eigen::Matrix3d r_cross = cross_matrix(r);
+    const Eigen::Matrix3d f_cross = cross_matrix(f);
+    const Eigen::Matrix3d by_translation = -wk * normal * gradient.transpose();
+    const Eigen::Matrix3d by_rotation =
+        wk * (normal * (gradient.transpose() * r_cross) + d * cross_matrix(normal));
+    force += f;
+    torque += r.cross(f);
+    force_by_translation += by_translation;
+    force_by_rotation += by_rotation;
+    torque_by_translation += r_cross * by_translation;
+    torque_by_rotation += -f_cross * r_cross + r_cross * by_rotation;
+  }
+};
+
+/// The traversal; a friend of ContactWorkspace.
+struct TraversalAccess {
+  using Clock = std::chrono::steady_clock;
+
+  static void fail(ContactWorkspace& ws) noexcept {
+    ContactResult& result = ws.m_result;
+    result.force.setZero();
+    result.torque.setZero();
+    result.force_by_translation.setZero();
+    result.force_by_rotation.setZero();
+    result.torque_by_translation.setZero();
+    result.torque_by_rotation.setZero();
+    result.pointshell_reduced_force.setZero();
+    result.field_reduced_force.setZero();
+    result.statistics = ContactStatistics{};
+  }
+
+  /// |q| into the workspace, for DeformablePoints.
+  /// nullptr if q does not fit the workspace or is not finite.
+  static const double* absolute_q(ContactWorkspace& ws,
+                                  const Eigen::Ref<const Eigen::VectorXd>& q) noexcept {
+    if (ws.m_pointshell_dimension == 0 || q.size() != ws.m_pointshell_dimension || !q.allFinite()) {
+      return nullptr;
+    }
+    ws.m_abs_q = q.cwiseAbs();
+    return ws.m_abs_q.data();
+  }
+
+  template <typename Points, DistanceField Field>
+  static bool run(const Points& points, const Field& field, const ContactFrames& frames,
+                  ContactWorkspace& ws) noexcept;
+};
+
+template <typename Points, DistanceField Field>
+bool TraversalAccess::run(const Points& points, const Field& field, const ContactFrames& frames,
+                          ContactWorkspace& ws) noexcept {
+  const Clock::time_point start = Clock::now();
+  const PointTree& tree = points.tree();
+  const ContactOptions& options = ws.m_options;
+  constexpr bool deformable_field = DeformableDistanceField<Field>;
+  bool fits = ws.m_tree_identity == &tree && ws.m_nodes == tree.num_nodes() &&
+              frames.pointshell.matrix().allFinite() && frames.field.matrix().allFinite() &&
+              frames.grasp_point.allFinite();
+  if constexpr (deformable_field) fits = fits && field.dimension() == ws.m_field_dimension;
+  if (!fits) {
+    fail(ws);
+    return false;
+  }
+
+  // Pointshell body → world (x = R_P p + t_P) and → field body (X = R p + t).
+  const Eigen::Matrix3d rotation_p = frames.pointshell.linear();
+  const Eigen::Vector3d translation_p = frames.pointshell.translation();
+  const Eigen::Matrix3d rotation_f = frames.field.linear();
+  const Eigen::Matrix3d rotation = rotation_f.transpose() * rotation_p;
+  const Eigen::Vector3d translation =
+      rotation_f.transpose() * (translation_p - frames.field.translation());
+
+  const bool coherent = options.coherence.enabled && !deformable_field;
+  if (coherent) {
+    if constexpr (Points::deformable) {
+      ws.begin_coherence(rotation, translation, points.q_data());
+    } else {
+      ws.begin_coherence(rotation, translation, nullptr);
+    }
+  }
+
+  ContactResult& result = ws.m_result;
+  ContactStatistics& stats = result.statistics;
+  stats = ContactStatistics{};
+  ContactSums sums;
+  ws.m_contact_reduced_force.setZero();
+  result.field_reduced_force.setZero();
+  const double stiffness = options.stiffness;
+  const bool weighted = !ws.m_area_weights.empty();
+  const bool exact_gradient = options.gradient == ContactGradient::field_gradient;
+  const DegradationOptions& degradation = options.degradation;
+  const Pointshell& shell = tree.pointshell();
+  double* point_distance = ws.m_point_distance.data();
+
+  const auto cost_units = [&](double traversed, double contacts, double queued) noexcept {
+    const double contact_share = traversed > 0.0 ? contacts / traversed : 0.0;
+    return traversed + queued + degradation.contact_weight * (contacts + contact_share * queued);
+  };
+
+  // Level 0 is always rendered: all its nodes.
+  std::int32_t* current = ws.m_current.data();
+  std::int32_t* next = ws.m_next.data();
+  Eigen::Index current_count = tree.level_end(0);
+  for (Eigen::Index n = 0; n < current_count; ++n) current[n] = static_cast<std::int32_t>(n);
+
+  for (int level = 0;; ++level) {
+    const Eigen::Index first_new_point = shell.level_begin(level);
+    Eigen::Index next_count = 0;
+    for (Eigen::Index k = 0; k < current_count; ++k) {
+      const std::int32_t n = current[k];
+      if (coherent && ws.m_skip_until[static_cast<std::size_t>(n)] > ws.m_cycle) {
+        ++stats.nodes_skipped;
+        continue;
+      }
+      ++stats.nodes_traversed;
+      const PointTreeNode& node = tree.node(n);
+      const Eigen::Index s = node.point;
+      const bool first_instance = s >= first_new_point;
+      Eigen::Vector3d p;
+      double d;
+      if (first_instance) {
+        p = points.position(s);
+        d = field.distance(rotation * p + translation);
+        point_distance[s] = d;
+      } else {
+        d = point_distance[s];
+      }
+      const double radius = points.radius(n);
+      if (d > radius) {
+        if (coherent) {
+          if (!first_instance) p = points.position(s);
+          ws.m_skip_until[static_cast<std::size_t>(n)] =
+              ws.coherent_skip_until(d - radius, (p - ws.m_reference_point).norm() + radius);
+        }
+        continue;
+      }
+      for (std::int32_t c = 0; c < node.child_count; ++c) next[next_count++] = node.first_child + c;
+      if (!first_instance || !(d < 0.0)) continue;
+
+      // A point in contact (eq. 3.1, §4.1–§4.2).
+      const double weight = weighted ? ws.m_area_weights[static_cast<std::size_t>(s)] : 1.0;
+      const Eigen::Vector3d normal_body = points.normal(s);
+      const Eigen::Vector3d normal = rotation_p * normal_body;
+      const Eigen::Vector3d x = rotation_p * p + translation_p;
+      Eigen::Vector3d gradient = normal;
+      const Eigen::Vector3d field_point = rotation * p + translation;
+      if (exact_gradient) {
+        Eigen::Vector3d field_gradient;
+        field.distance_and_gradient(field_point, field_gradient);
+        gradient = rotation_f * field_gradient;
+      }
+      sums.add(x - frames.grasp_point, d, normal, gradient, weight * stiffness);
+      sums.weight += weight;
+      ++stats.points_in_contact;
+      const Eigen::Vector3d f = weight * stiffness * d * normal;  // on the field object, world
+      if constexpr (Points::deformable) {
+        points.add_reduced_force(s, rotation_p.transpose() * -f, ws.m_contact_reduced_force);
+      }
+      if constexpr (deformable_field) {
+        field.add_reduced_force(field_point, rotation_f.transpose() * f,
+                                result.field_reduced_force);
+      }
+    }
+    stats.deepest_level = level;
+    if (next_count == 0 || level + 1 == tree.num_levels()) break;
+    if (level == options.max_level) {
+      stats.complete = false;
+      break;
+    }
+
+    // Graceful degradation (§3.10.3): render level + 1 only if its predicted cost fits.
+    if (degradation.mode != DegradationOptions::Mode::none) {
+      const double limit_fraction = level + 1 <= ws.m_warm_level ? 1.0 : degradation.cold_fraction;
+      const double traversed = static_cast<double>(stats.nodes_traversed);
+      const double contacts = static_cast<double>(stats.points_in_contact);
+      const double queued = static_cast<double>(next_count);
+      bool render;
+      if (degradation.mode == DegradationOptions::Mode::node_count) {
+        render =
+            cost_units(traversed, contacts, queued) <= limit_fraction * degradation.warm_threshold;
+      } else {
+        const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+        const double units_so_far = cost_units(traversed, contacts, 0.0);
+        const double per_unit = ws.seconds_per_unit(elapsed, units_so_far);
+        const double predicted =
+            elapsed + per_unit * (cost_units(traversed, contacts, queued) - units_so_far);
+        render = predicted <= limit_fraction * degradation.budget_microseconds * 1e-6;
+      }
+      if (!render) {
+        stats.complete = false;
+        break;
+      }
+    }
+    std::swap(current, next);
+    current_count = next_count;
+  }
+
+  // L/ℓ scaling (§3.5) and the haptic object's side.
+  const double scale = options.scaling_count / std::max(options.scaling_count, sums.weight);
+  const double sign = options.haptic_object == HapticObject::distance_field ? 1.0 : -1.0;
+  result.force = sign * scale * sums.force;
+  result.torque = sign * scale * sums.torque;
+  result.force_by_translation = scale * sums.force_by_translation;
+  result.force_by_rotation = scale * sums.force_by_rotation;
+  // The field object's grasp point moves with it, shortening every lever by Δx (§4.2); a
+  // pointshell's moves with the points.
+  result.torque_by_translation =
+      scale * (options.haptic_object == HapticObject::distance_field
+                   ? Eigen::Matrix3d(sums.torque_by_translation + cross_matrix(sums.force))
+                   : sums.torque_by_translation);
+  result.torque_by_rotation = scale * sums.torque_by_rotation;
+  if constexpr (Points::deformable) {
+    result.pointshell_reduced_force = scale * ws.m_contact_reduced_force;
+  }
+  if constexpr (deformable_field) result.field_reduced_force *= scale;
+
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  stats.microseconds = seconds * 1e6;
+  ws.end_degradation(stats.deepest_level, seconds,
+                     cost_units(static_cast<double>(stats.nodes_traversed),
+                                static_cast<double>(stats.points_in_contact), 0.0));
+  return true;
+}
+
+}  // namespace khz::contact::detail

@@ -1,0 +1,171 @@
+#include <khz/contact/query/contact_workspace.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+namespace khz::contact {
+namespace {
+
+/// The cost per unit a time-budget query plans with before it has measured one (s): a
+/// deliberately slow node (bench_contact_query measures 20–80 ns), so the first queries stay
+/// within budget.
+constexpr double initial_seconds_per_unit = 100e-9;
+/// Queries with fewer cost units than this do not update the measured cost per unit: fixed
+/// costs would dominate it.
+constexpr double min_measured_units = 64.0;
+/// A measured cost per unit below the current one moves it by this fraction per query (a slower
+/// one replaces it at once), so a budget holds at the 99th percentile.
+constexpr double cost_decay = 1.0 / 64.0;
+
+Eigen::Index widest_level(const PointTree& tree) {
+  Eigen::Index widest = 0;
+  for (int level = 0; level < tree.num_levels(); ++level) {
+    widest = std::max(widest, tree.level_end(level) - tree.level_begin(level));
+  }
+  return widest;
+}
+
+Eigen::Vector3d bounding_box_centre(const PointMatrix& points) {
+  if (points.rows() == 0) return Eigen::Vector3d::Zero();
+  return 0.5 * (points.colwise().minCoeff() + points.colwise().maxCoeff()).transpose();
+}
+
+}  // namespace
+
+ContactWorkspace::ContactWorkspace(const PointTree& tree, const ContactOptions& options,
+                                   Eigen::Index field_dimension)
+    : ContactWorkspace(tree, options, 0, field_dimension) {}
+
+ContactWorkspace::ContactWorkspace(const DeformablePointTree& tree, const ContactOptions& options,
+                                   Eigen::Index field_dimension)
+    : ContactWorkspace(tree.tree(), options, tree.dimension(), field_dimension) {
+  for (Eigen::Index s = 0; s < m_points; ++s) {
+    m_modes_norm = std::max(m_modes_norm, tree.displacement_modes(s).norm());
+  }
+}
+
+ContactWorkspace::ContactWorkspace(const PointTree& tree, const ContactOptions& options,
+                                   Eigen::Index pointshell_dimension, Eigen::Index field_dimension)
+    : m_options(options),
+      m_tree_identity(&tree),
+      m_nodes(tree.num_nodes()),
+      m_points(tree.num_points()),
+      m_pointshell_dimension(pointshell_dimension),
+      m_field_dimension(field_dimension) {
+  options.validate();
+  if (field_dimension < 0) {
+    throw Error("ContactWorkspace: field_dimension must be ≥ 0, got " +
+                std::to_string(field_dimension));
+  }
+  const auto widest = static_cast<std::size_t>(widest_level(tree));
+  m_point_distance.assign(static_cast<std::size_t>(m_points), 0.0);
+  m_current.assign(widest, 0);
+  m_next.assign(widest, 0);
+  m_skip_until.assign(static_cast<std::size_t>(m_nodes), 0);
+  m_abs_q = Eigen::VectorXd::Zero(pointshell_dimension);
+  m_previous_q = Eigen::VectorXd::Zero(pointshell_dimension);
+  m_contact_reduced_force = Eigen::VectorXd::Zero(pointshell_dimension);
+  m_result.pointshell_reduced_force = Eigen::VectorXd::Zero(pointshell_dimension);
+  m_result.field_reduced_force = Eigen::VectorXd::Zero(field_dimension);
+  m_previous_rotation.setIdentity();
+  m_previous_reference.setZero();
+  m_reference_point = bounding_box_centre(tree.pointshell().points);
+  reset();
+}
+
+void ContactWorkspace::set_options(const ContactOptions& options) {
+  options.validate();
+  m_options = options;
+  reset();
+}
+
+void ContactWorkspace::set_area_weights(std::vector<double> weights) {
+  if (!weights.empty()) {
+    if (static_cast<Eigen::Index>(weights.size()) != m_points) {
+      throw Error("ContactWorkspace::set_area_weights: " + std::to_string(weights.size()) +
+                  " weights for " + std::to_string(m_points) + " points");
+    }
+    for (std::size_t s = 0; s < weights.size(); ++s) {
+      if (!(std::isfinite(weights[s]) && weights[s] > 0.0)) {
+        throw Error("ContactWorkspace::set_area_weights: the weight of point " + std::to_string(s) +
+                    " must be finite and > 0, got " + std::to_string(weights[s]));
+      }
+    }
+  }
+  m_area_weights = std::move(weights);
+}
+
+void ContactWorkspace::reset() noexcept {
+  std::fill(m_skip_until.begin(), m_skip_until.end(), 0U);
+  m_cycle = 0;
+  m_have_previous = false;
+  m_warm_level = -1;
+  m_seconds_per_unit = initial_seconds_per_unit;
+}
+
+void ContactWorkspace::begin_coherence(const Eigen::Matrix3d& rotation,
+                                       const Eigen::Vector3d& translation,
+                                       const double* q) noexcept {
+  const CoherenceOptions& bounds = m_options.coherence;
+  const auto max_skip = static_cast<std::uint32_t>(bounds.max_skip);
+  // Skips are at most max_skip + 1 queries ahead; near the counter's end, start over.
+  if (m_cycle >= std::numeric_limits<std::uint32_t>::max() - 4 * (max_skip + 1)) {
+    std::fill(m_skip_until.begin(), m_skip_until.end(), 0U);
+    m_cycle = 0;
+  }
+  ++m_cycle;
+  const Eigen::Vector3d reference = rotation * m_reference_point + translation;
+  if (m_have_previous) {
+    // A point p moves by (R − R')(p − c) + (reference − reference'): the spectral norm of R − R'
+    // (2 sin θ/2 for a rotation by θ, ‖R − R'‖_F / √2) bounds the first part per metre of ρ;
+    // a deformation moves it by ‖U_s Δq‖ ≤ max_s ‖U_s‖_F ‖Δq‖.
+    const double moved = (reference - m_previous_reference).norm();
+    const double turned = (rotation - m_previous_rotation).norm() / std::sqrt(2.0);
+    double deformed = 0.0;
+    if (q != nullptr) {
+      deformed =
+          m_modes_norm *
+          (Eigen::Map<const Eigen::VectorXd>(q, m_pointshell_dimension) - m_previous_q).norm();
+    }
+    if (!(moved <= bounds.max_translation && turned <= bounds.max_rotation &&
+          deformed <= bounds.max_deformation)) {
+      // Every skip ends by m_cycle + max_skip: jumping past that drops them all in O(1).
+      m_cycle += max_skip + 1;
+    }
+  }
+  m_have_previous = true;
+  m_previous_rotation = rotation;
+  m_previous_reference = reference;
+  if (q != nullptr) m_previous_q = Eigen::Map<const Eigen::VectorXd>(q, m_pointshell_dimension);
+}
+
+std::uint32_t ContactWorkspace::coherent_skip_until(double gap, double reach) const noexcept {
+  const CoherenceOptions& bounds = m_options.coherence;
+  // Per query, no point of the sphere moves more than this relative to the field (m).
+  const double motion =
+      bounds.max_translation + bounds.max_deformation + bounds.max_rotation * reach;
+  double skips = bounds.max_skip;
+  // k queries later the gap has shrunk by at most k·motion: skip the k with k·motion < gap.
+  if (motion > 0.0) skips = std::min(skips, std::ceil(gap / motion) - 1.0);
+  return m_cycle + 1 + static_cast<std::uint32_t>(std::max(skips, 0.0));
+}
+
+double ContactWorkspace::seconds_per_unit(double elapsed, double units) const noexcept {
+  const double measured = units >= min_measured_units ? elapsed / units : 0.0;
+  return std::max(m_seconds_per_unit, measured);
+}
+
+void ContactWorkspace::end_degradation(int deepest_level, double seconds,
+                                       double cost_units) noexcept {
+  m_warm_level = deepest_level;
+  if (cost_units < min_measured_units) return;
+  const double measured = seconds / cost_units;
+  m_seconds_per_unit = measured >= m_seconds_per_unit
+                           ? measured
+                           : m_seconds_per_unit + cost_decay * (measured - m_seconds_per_unit);
+}
+
+}  // namespace khz::contact

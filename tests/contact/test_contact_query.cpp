@@ -1,0 +1,630 @@
+#include <khz/contact/field/distance_grid.hpp>
+#include <khz/contact/field/implicit_shapes.hpp>
+#include <khz/contact/field/mesh_distance_field.hpp>
+#include <khz/contact/pointshell/nested_levels.hpp>
+#include <khz/contact/pointshell/pointshell_sampling.hpp>
+#include <khz/contact/query/contact_query.hpp>
+#include <khz/contact/tree/deformable_point_tree.hpp>
+#include <khz/reduced/meshing/box_mesh.hpp>
+#include <khz/test/allocation_probe.hpp>
+#include <khz/test/fixtures.hpp>
+#include <khz/test/generated_meshes.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+namespace khz::contact {
+namespace {
+
+constexpr int r = 6;
+
+/// A unit sphere sampled by Fibonacci points (near-uniform), nested ×4 per level from 20.
+Pointshell fibonacci_sphere(Eigen::Index count) {
+  Pointshell shell;
+  shell.points.resize(count, 3);
+  shell.normals.resize(count, 3);
+  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+  for (Eigen::Index i = 0; i < count; ++i) {
+    const double z = 1.0 - (2.0 * static_cast<double>(i) + 1.0) / static_cast<double>(count);
+    const double ring = std::sqrt(1.0 - z * z);
+    const double angle = golden * static_cast<double>(i);
+    const Eigen::Vector3d p(ring * std::cos(angle), ring * std::sin(angle), z);
+    shell.points.row(i) = p.transpose();
+    shell.normals.row(i) = -p.transpose();
+  }
+  shell.level_ends = {count};
+  NestedLevelOptions options;
+  options.schedule = LevelSchedule::quadrupling(20);
+  return nested_pointshell(shell, options);
+}
+
+/// A rigid sphere tree, and a deformable cube tree on a random basis (its columns move points by
+/// ~0.3 m per unit q), as in test_deformable_point_tree.
+struct Fixture {
+  PointTree sphere{fibonacci_sphere(6000)};
+  reduced::VolumeMesh volume =
+      reduced::box_tet_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), {3, 3, 3});
+  reduced::MeshEmbedding embedding{volume};
+  Eigen::MatrixXd basis;
+  DeformablePointTree cube;
+
+  Fixture() : basis(random_basis()), cube(cube_tree(embedding, basis)) {}
+
+  Eigen::MatrixXd random_basis() const {
+    std::mt19937 random(8);
+    std::normal_distribution<double> gauss(0.0, 0.3);
+    Eigen::MatrixXd u(3 * volume.num_vertices(), r);
+    for (Eigen::Index i = 0; i < u.size(); ++i) u.data()[i] = gauss(random);
+    return u;
+  }
+  static DeformablePointTree cube_tree(const reduced::MeshEmbedding& embedding,
+                                       const Eigen::MatrixXd& basis) {
+    NestedLevelOptions options;
+    options.schedule = LevelSchedule::quadrupling(8);
+    return DeformablePointTree(PointTree(nested_pointshell(
+                                   random_pointshell(test::unit_cube_surface(), 3000, 4), options)),
+                               embedding, basis);
+  }
+};
+
+const Fixture& fixture() {
+  static const Fixture instance;
+  return instance;
+}
+
+Eigen::Isometry3d pose(const Eigen::Vector3d& axis_angle, const Eigen::Vector3d& translation) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  if (axis_angle.norm() > 0.0) {
+    t.linear() = Eigen::AngleAxisd(axis_angle.norm(), axis_angle.normalized()).toRotationMatrix();
+  }
+  t.translation() = translation;
+  return t;
+}
+
+/// The reference: every point of levels 0…deepest, no tree, straight from eq. 3.1 and §3.5.
+struct BruteForce {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();   // on the field object
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();  // about the grasp point
+  Eigen::VectorXd reduced;                           // Σ U_sᵀ (force on point s, body frame)
+  std::int64_t contacts = 0;
+};
+
+template <typename Field>
+BruteForce brute_force(const PointTree& tree, const DeformablePointTree* deformable,
+                       const Eigen::VectorXd& q, const Field& field, const ContactFrames& frames,
+                       const ContactOptions& options, int deepest) {
+  BruteForce sum;
+  sum.reduced = Eigen::VectorXd::Zero(deformable != nullptr ? deformable->dimension() : 0);
+  double weight = 0.0;
+  for (Eigen::Index s = 0; s < tree.pointshell().level_end(deepest); ++s) {
+    const Eigen::Vector3d body = deformable != nullptr
+                                     ? deformable->position(s, q)
+                                     : Eigen::Vector3d(tree.pointshell().points.row(s));
+    const Eigen::Vector3d x = frames.pointshell * body;
+    const double d = field.distance(frames.field.inverse() * x);
+    if (!(d < 0.0)) continue;
+    const Eigen::Vector3d normal_body = deformable != nullptr
+                                            ? deformable->normal(s, q)
+                                            : Eigen::Vector3d(tree.pointshell().normals.row(s));
+    const Eigen::Vector3d f = options.stiffness * d * (frames.pointshell.linear() * normal_body);
+    sum.force += f;
+    sum.torque += (x - frames.grasp_point).cross(f);
+    if (deformable != nullptr) {
+      sum.reduced += deformable->displacement_modes(s).transpose() *
+                     (frames.pointshell.linear().transpose() * -f);
+    }
+    weight += 1.0;
+    ++sum.contacts;
+  }
+  const double scale = options.scaling_count / std::max(options.scaling_count, weight);
+  sum.force *= scale;
+  sum.torque *= scale;
+  sum.reduced *= scale;
+  return sum;
+}
+
+void expect_close(const Eigen::VectorXd& actual, const Eigen::VectorXd& expected, double relative) {
+  ASSERT_EQ(actual.size(), expected.size());
+  EXPECT_LE((actual - expected).norm(), relative * std::max(expected.norm(), 1e-300))
+      << "actual " << actual.transpose() << "\nexpected " << expected.transpose();
+}
+
+/// Sphere-pointshell poses touching the unit box obstacle at growing depths, turned arbitrarily.
+std::vector<ContactFrames> sphere_poses() {
+  std::vector<ContactFrames> poses;
+  for (int i = 0; i < 6; ++i) {
+    ContactFrames frames;
+    frames.pointshell =
+        pose(Eigen::Vector3d(0.3 * i, -0.2, 0.1 * i), Eigen::Vector3d(0.0, 0.0, 0.0));
+    frames.field = pose(Eigen::Vector3d(0.1, 0.2 * i, -0.3),
+                        Eigen::Vector3d(0.2 * i - 0.5, 0.1, 1.45 - 0.05 * i));
+    frames.grasp_point = frames.field.translation() + Eigen::Vector3d(0.1, -0.2, 0.3);
+    poses.push_back(frames);
+  }
+  return poses;
+}
+
+TEST(ContactQuery, RigidTreeEqualsBruteForceOverEveryPointAgainstAnalyticShapes) {
+  const PointTree& tree = fixture().sphere;
+  const ImplicitShape box = Box(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.8, 0.6, 0.5));
+  const ImplicitUnion blobs(
+      {Sphere(Eigen::Vector3d(0.3, 0.0, 0.0), 0.5), Sphere(Eigen::Vector3d(-0.3, 0.2, 0.1), 0.4)});
+  ContactOptions options;
+  options.stiffness = 2000.0;
+  ContactWorkspace workspace(tree, options);
+  int touching = 0;
+  for (const ContactFrames& frames : sphere_poses()) {
+    for (int field = 0; field < 2; ++field) {
+      const bool ok = field == 0 ? query_contact(tree, box, frames, workspace)
+                                 : query_contact(tree, blobs, frames, workspace);
+      ASSERT_TRUE(ok);
+      const ContactResult& result = workspace.result();
+      const BruteForce expected =
+          field == 0
+              ? brute_force(tree, nullptr, {}, box, frames, options, tree.num_levels() - 1)
+              : brute_force(tree, nullptr, {}, blobs, frames, options, tree.num_levels() - 1);
+      EXPECT_EQ(result.statistics.points_in_contact, expected.contacts);
+      EXPECT_TRUE(result.statistics.complete);
+      expect_close(result.force, expected.force, 1e-12);
+      expect_close(result.torque, expected.torque, 1e-12);
+      if (expected.contacts > options.scaling_count) ++touching;
+      // The tree culls: far fewer nodes than points whenever contact is local.
+      EXPECT_LT(result.statistics.nodes_traversed, tree.num_nodes());
+    }
+  }
+  EXPECT_GE(touching, 8);  // the poses exercise the L/ℓ scaling
+}
+
+TEST(ContactQuery, RigidTreeEqualsBruteForceAgainstASampledGrid) {
+  const PointTree& tree = fixture().sphere;
+  DistanceFieldOptions field_options;
+  field_options.cells = 48;
+  const DistanceGrid grid = signed_distance_field(test::unit_cube_surface(), field_options);
+  ContactOptions options;
+  ContactWorkspace workspace(tree, options);
+  for (const ContactFrames& frames : sphere_poses()) {
+    ASSERT_TRUE(query_contact(tree, grid, frames, workspace));
+    const BruteForce expected =
+        brute_force(tree, nullptr, {}, grid, frames, options, tree.num_levels() - 1);
+    EXPECT_EQ(workspace.result().statistics.points_in_contact, expected.contacts);
+    expect_close(workspace.result().force, expected.force, 1e-12);
+    expect_close(workspace.result().torque, expected.torque, 1e-12);
+  }
+}
+
+TEST(ContactQuery, DeformableTreeEqualsBruteForceWithReducedForces) {
+  const DeformablePointTree& tree = fixture().cube;
+  const ImplicitShape ball = Sphere(Eigen::Vector3d(0.0, 0.0, 0.0), 0.45);
+  ContactOptions options;
+  ContactWorkspace workspace(tree, options);
+  std::mt19937 random(3);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  int touching = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    Eigen::VectorXd q(r);
+    for (Eigen::Index j = 0; j < r; ++j) q[j] = 0.15 * trial * gauss(random);  // up to ~0.3 m
+    ContactFrames frames;
+    frames.pointshell = pose(Eigen::Vector3d(0.1 * trial, 0.2, 0.0), Eigen::Vector3d(0.1, 0, 0));
+    frames.field = pose(Eigen::Vector3d::Zero(),
+                        frames.pointshell * Eigen::Vector3d(1.2 - 0.06 * trial, 0.5, 0.4));
+    frames.grasp_point = frames.field.translation();
+    ASSERT_TRUE(query_contact(tree, q, ball, frames, workspace));
+    const BruteForce expected =
+        brute_force(tree.tree(), &tree, q, ball, frames, options, tree.tree().num_levels() - 1);
+    const ContactResult& result = workspace.result();
+    EXPECT_EQ(result.statistics.points_in_contact, expected.contacts);
+    expect_close(result.force, expected.force, 1e-12);
+    expect_close(result.torque, expected.torque, 1e-12);
+    expect_close(result.pointshell_reduced_force, expected.reduced, 1e-12);
+    touching += expected.contacts > 0 ? 1 : 0;
+  }
+  EXPECT_GE(touching, 5);
+}
+
+/// Central differences of the force and torque on the haptic object as it moves by (Δx, Δω)
+/// about the grasp point, in the axes §4.2 states: turning with a field haptic object.
+struct Differences {
+  Eigen::Matrix3d force_by_translation, force_by_rotation, torque_by_translation,
+      torque_by_rotation;
+};
+
+template <typename Query>
+Differences finite_differences(const ContactFrames& frames, HapticObject haptic,
+                               const Query& query) {
+  constexpr double h = 1e-6;
+  Differences differences;
+  for (int column = 0; column < 6; ++column) {
+    Eigen::Vector3d force[2], torque[2];
+    for (int side = 0; side < 2; ++side) {
+      Eigen::Matrix<double, 6, 1> delta = Eigen::Matrix<double, 6, 1>::Zero();
+      delta[column] = side == 0 ? h : -h;
+      const Eigen::Isometry3d motion = Eigen::Translation3d(frames.grasp_point + delta.head<3>()) *
+                                       pose(delta.tail<3>(), Eigen::Vector3d::Zero()) *
+                                       Eigen::Translation3d(-frames.grasp_point);
+      ContactFrames moved = frames;
+      moved.grasp_point += delta.head<3>();
+      Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+      if (haptic == HapticObject::distance_field) {
+        moved.field = motion * frames.field;
+        axes = motion.linear().transpose();
+      } else {
+        moved.pointshell = motion * frames.pointshell;
+      }
+      const ContactResult& result = query(moved);
+      force[side] = axes * result.force;
+      torque[side] = axes * result.torque;
+    }
+    const Eigen::Vector3d df = (force[0] - force[1]) / (2.0 * h);
+    const Eigen::Vector3d dt = (torque[0] - torque[1]) / (2.0 * h);
+    if (column < 3) {
+      differences.force_by_translation.col(column) = df;
+      differences.torque_by_translation.col(column) = dt;
+    } else {
+      differences.force_by_rotation.col(column - 3) = df;
+      differences.torque_by_rotation.col(column - 3) = dt;
+    }
+  }
+  return differences;
+}
+
+void expect_gradients_match(const ContactResult& result, const Differences& differences) {
+  const auto check = [](const Eigen::Matrix3d& analytic, const Eigen::Matrix3d& numeric,
+                        const char* name) {
+    EXPECT_LE((analytic - numeric).norm(), 1e-6 * std::max(1.0, numeric.norm()))
+        << name << "\nanalytic\n"
+        << analytic << "\nfinite differences\n"
+        << numeric;
+  };
+  check(result.force_by_translation, differences.force_by_translation, "∂F/∂x");
+  check(result.force_by_rotation, differences.force_by_rotation, "∂F/∂ω");
+  check(result.torque_by_translation, differences.torque_by_translation, "∂T/∂x");
+  check(result.torque_by_rotation, differences.torque_by_rotation, "∂T/∂ω");
+  EXPECT_GT(differences.force_by_rotation.norm(), 1.0);  // not a vacuous comparison
+}
+
+class ContactGradients : public ::testing::TestWithParam<HapticObject> {};
+
+TEST_P(ContactGradients, MatchFiniteDifferencesForRigidAndDeformablePointshells) {
+  // A smooth field (a sphere) and L large: the force is differentiable and ℓ's jumps do not
+  // scale it, so central differences see exactly what the gradients describe.
+  const ImplicitUnion field(
+      {Sphere(Eigen::Vector3d(0.2, 0.0, 0.0), 0.6), Sphere(Eigen::Vector3d(-0.4, 0.3, 0.1), 0.3)});
+  ContactOptions options;
+  options.stiffness = 500.0;
+  options.scaling_count = 1e9;
+  options.haptic_object = GetParam();
+  ContactFrames frames;
+  frames.pointshell = pose(Eigen::Vector3d(0.2, -0.1, 0.4), Eigen::Vector3d(0.1, 0.0, -0.2));
+  frames.field = pose(Eigen::Vector3d(-0.3, 0.2, 0.1), Eigen::Vector3d(0.5, 0.6, 0.9));
+  frames.grasp_point = Eigen::Vector3d(0.4, 0.2, 0.7);
+
+  const PointTree& sphere = fixture().sphere;
+  ContactWorkspace rigid(sphere, options);
+  ASSERT_TRUE(query_contact(sphere, field, frames, rigid));
+  ASSERT_GT(rigid.result().statistics.points_in_contact, 20);
+  const ContactResult rigid_result = rigid.result();
+  expect_gradients_match(rigid_result,
+                         finite_differences(frames, GetParam(), [&](const ContactFrames& moved) {
+                           query_contact(sphere, field, moved, rigid);
+                           return rigid.result();
+                         }));
+
+  const DeformablePointTree& cube = fixture().cube;
+  Eigen::VectorXd q(r);
+  q << 0.2, -0.1, 0.05, 0.3, -0.2, 0.1;
+  ContactWorkspace deformable(cube, options);
+  ContactFrames cube_frames = frames;
+  cube_frames.field =
+      pose(Eigen::Vector3d(-0.3, 0.2, 0.1), frames.pointshell * Eigen::Vector3d(1.1, 0.6, 0.5));
+  ASSERT_TRUE(query_contact(cube, q, field, cube_frames, deformable));
+  ASSERT_GT(deformable.result().statistics.points_in_contact, 20);
+  const ContactResult deformable_result = deformable.result();
+  expect_gradients_match(
+      deformable_result,
+      finite_differences(cube_frames, GetParam(), [&](const ContactFrames& moved) {
+        query_contact(cube, q, field, moved, deformable);
+        return deformable.result();
+      }));
+}
+
+INSTANTIATE_TEST_SUITE_P(HapticObjects, ContactGradients,
+                         ::testing::Values(HapticObject::distance_field, HapticObject::pointshell));
+
+TEST(ContactQuery, HapticObjectChoiceFlipsForceAndTorqueOnly) {
+  const PointTree& tree = fixture().sphere;
+  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  ContactFrames frames;
+  frames.pointshell = pose(Eigen::Vector3d(0.1, 0.2, 0.3), Eigen::Vector3d(0.3, -0.2, 0.85));
+  frames.grasp_point = Eigen::Vector3d(0.3, -0.2, 0.85);
+  ContactOptions on_field;
+  ContactOptions on_pointshell;
+  on_pointshell.haptic_object = HapticObject::pointshell;
+  ContactWorkspace a(tree, on_field), b(tree, on_pointshell);
+  ASSERT_TRUE(query_contact(tree, plane, frames, a));
+  ASSERT_TRUE(query_contact(tree, plane, frames, b));
+  EXPECT_LT(a.result().force.z(), 0.0) << "the plane (field object) is pushed away, down";
+  EXPECT_EQ(a.result().force, -b.result().force);
+  EXPECT_EQ(a.result().torque, -b.result().torque);
+  EXPECT_EQ(a.result().force_by_rotation, b.result().force_by_rotation);
+}
+
+TEST(ContactQuery, NormalDirectionGradientsUseTheNormalForTheFieldGradient) {
+  // Against a plane whose normal is the pointshell's normal at the contact, ∇d = N: both
+  // gradient modes agree.
+  const PointTree& tree = fixture().sphere;
+  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  ContactFrames frames;
+  frames.pointshell = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, 0.999));
+  ContactOptions exact, approximate;
+  approximate.gradient = ContactGradient::normal_direction;
+  ContactWorkspace a(tree, exact), b(tree, approximate);
+  ASSERT_TRUE(query_contact(tree, plane, frames, a));
+  ASSERT_TRUE(query_contact(tree, plane, frames, b));
+  ASSERT_GT(a.result().statistics.points_in_contact, 0);
+  // Points of the cap have normals within a few degrees of the plane's.
+  EXPECT_LE((a.result().force_by_translation - b.result().force_by_translation).norm(),
+            0.01 * a.result().force_by_translation.norm());
+  EXPECT_NE(a.result().force_by_translation, b.result().force_by_translation);
+}
+
+TEST(ContactQuery, ForceConvergesToTheAnalyticLimitLevelByLevel) {
+  // §3.5.1: a unit-sphere pointshell sunk δ into a plane. With the L/ℓ scaling the force on
+  // the plane is k L times the mean of d N over the cap (eq. 3.2). With c = cos θ measured from
+  // the bottom, d = h − c (h = 1 − δ) and N_z = c on the cap c > h, and area is uniform in c:
+  //   F_z = k L ∫ (h − c) c dc / ∫ dc over [h, 1] = −k L ((1 − h³)/3 − h(1 − h²)/2) / (1 − h).
+  const PointTree& tree = fixture().sphere;
+  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  const double depth = 0.3, h = 1.0 - depth;
+  ContactOptions options;
+  options.stiffness = 1.0;
+  ContactFrames frames;
+  // Turned, so the Fibonacci rings (uniform in z) do not line up with the plane.
+  frames.pointshell = pose(Eigen::Vector3d(0.7, -0.4, 0.2), Eigen::Vector3d(0.0, 0.0, h));
+  const double numerator = (1.0 - h * h * h) / 3.0 - h * (1.0 - h * h) / 2.0;
+  const double limit = -options.stiffness * options.scaling_count * numerator / (1.0 - h);
+  std::vector<double> errors;
+  for (int level = 0; level < tree.num_levels(); ++level) {
+    options.max_level = level;
+    ContactWorkspace workspace(tree, options);
+    ASSERT_TRUE(query_contact(tree, plane, frames, workspace));
+    const double force = workspace.result().force.z();
+    const auto contacts = static_cast<double>(workspace.result().statistics.points_in_contact);
+    errors.push_back(std::abs(force - limit) / std::abs(limit));
+    std::printf("level %d: %5.0f points in contact, F_z = %.6f, limit %.6f, error %.2e\n", level,
+                contacts, force, limit, errors.back());
+    // A Riemann sum over near-uniform points errs mostly along the cap's rim, where points enter
+    // and leave: relative error ~ rim length × spacing / area ~ 1/√ℓ.
+    EXPECT_LT(errors.back(), 1.5 / std::sqrt(contacts)) << "level " << level;
+  }
+  EXPECT_LT(errors.back(), 1e-3);
+  EXPECT_LT(errors.back(), errors.front() / 100.0);
+}
+
+/// A recorded trajectory: the sphere pointshell sweeping through and past a box, each step
+/// within the declared bounds (the sphere's centre moves up to 7 mm a step in the box's frame,
+/// which turns 0.004 rad a step), then one jump beyond them.
+std::vector<ContactFrames> sweep() {
+  std::vector<ContactFrames> path;
+  for (int step = 0; step <= 400; ++step) {
+    const double t = step / 400.0;
+    ContactFrames frames;
+    frames.field = pose(Eigen::Vector3d(0.0, 0.0, 1.6 * t),
+                        Eigen::Vector3d(-0.8 + 0.7 * t, 0.2 * t, 1.25 - 0.15 * t));
+    frames.grasp_point = frames.field.translation();
+    path.push_back(frames);
+  }
+  ContactFrames jump = path.back();
+  jump.field.translation() = Eigen::Vector3d(0.0, 0.0, 1.2);  // a teleport
+  path.push_back(jump);
+  path.push_back(jump);
+  return path;
+}
+
+TEST(ContactQuery, TemporalCoherenceChangesNoResultAndSkipsNodes) {
+  const PointTree& tree = fixture().sphere;
+  const ImplicitShape box = Box(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.5, 0.3, 0.2));
+  ContactOptions plain;
+  ContactOptions coherent;
+  coherent.coherence.enabled = true;
+  coherent.coherence.max_translation = 7e-3;
+  coherent.coherence.max_rotation = 4.001e-3;
+  ContactWorkspace a(tree, plain), b(tree, coherent);
+  std::int64_t traversed_plain = 0, traversed_coherent = 0, skipped = 0, contacts = 0;
+  for (const ContactFrames& frames : sweep()) {
+    ASSERT_TRUE(query_contact(tree, box, frames, a));
+    ASSERT_TRUE(query_contact(tree, box, frames, b));
+    // Bit for bit: the same points in contact, summed in the same order.
+    ASSERT_EQ(a.result().force, b.result().force);
+    ASSERT_EQ(a.result().torque, b.result().torque);
+    ASSERT_EQ(a.result().force_by_rotation, b.result().force_by_rotation);
+    ASSERT_EQ(a.result().statistics.points_in_contact, b.result().statistics.points_in_contact);
+    traversed_plain += a.result().statistics.nodes_traversed;
+    traversed_coherent += b.result().statistics.nodes_traversed;
+    skipped += b.result().statistics.nodes_skipped;
+    contacts += a.result().statistics.points_in_contact;
+  }
+  EXPECT_GT(contacts, 1000);
+  EXPECT_GT(skipped, 0);
+  std::printf("nodes traversed: %lld without temporal coherence, %lld with (%lld skipped)\n",
+              static_cast<long long>(traversed_plain), static_cast<long long>(traversed_coherent),
+              static_cast<long long>(skipped));
+  EXPECT_LT(static_cast<double>(traversed_coherent), 0.8 * static_cast<double>(traversed_plain));
+}
+
+TEST(ContactQuery, TemporalCoherenceFollowsADeformingPointshell) {
+  const DeformablePointTree& tree = fixture().cube;
+  const ImplicitShape ball = Sphere(Eigen::Vector3d::Zero(), 0.3);
+  ContactOptions plain;
+  ContactOptions coherent;
+  coherent.coherence.enabled = true;
+  coherent.coherence.max_translation = 2e-3;
+  coherent.coherence.max_deformation = 0.0;  // measured below
+  ContactWorkspace a(tree, plain);
+  Eigen::VectorXd direction(r);
+  direction << 1.0, -0.5, 0.3, 0.2, -0.7, 0.4;
+  const double step = 0.002;  // of q per query
+  double modes_norm = 0.0;
+  for (Eigen::Index s = 0; s < tree.tree().num_points(); ++s) {
+    modes_norm = std::max(modes_norm, tree.displacement_modes(s).norm());
+  }
+  coherent.coherence.max_deformation = modes_norm * step * direction.norm();
+  ContactWorkspace b(tree, coherent);
+  std::int64_t skipped = 0, contacts = 0;
+  for (int i = 0; i <= 300; ++i) {
+    const Eigen::VectorXd q = (i * step) * direction;
+    ContactFrames frames;
+    frames.field = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(1.25 - 0.002 * i, 0.5, 0.5));
+    ASSERT_TRUE(query_contact(tree, q, ball, frames, a));
+    ASSERT_TRUE(query_contact(tree, q, ball, frames, b));
+    ASSERT_EQ(a.result().force, b.result().force) << "query " << i;
+    ASSERT_EQ(a.result().pointshell_reduced_force, b.result().pointshell_reduced_force);
+    skipped += b.result().statistics.nodes_skipped;
+    contacts += a.result().statistics.points_in_contact;
+  }
+  EXPECT_GT(contacts, 100);
+  EXPECT_GT(skipped, 0);
+}
+
+TEST(ContactQuery, DegradationCompletesLevelsOrDoesNotStartThem) {
+  const PointTree& tree = fixture().sphere;
+  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  ContactFrames frames;
+  frames.pointshell = pose(Eigen::Vector3d(0.3, 0.1, 0.0), Eigen::Vector3d(0.0, 0.0, 0.5));
+  ContactOptions full;
+  ContactWorkspace reference(tree, full);
+  ASSERT_TRUE(query_contact(tree, plane, frames, reference));
+  const std::int64_t all_nodes = reference.result().statistics.nodes_traversed;
+
+  for (const double fraction : {0.05, 0.2, 0.5}) {
+    ContactOptions options;
+    options.degradation.mode = DegradationOptions::Mode::node_count;
+    options.degradation.warm_threshold = fraction * static_cast<double>(all_nodes);
+    ContactWorkspace workspace(tree, options);
+    for (int repeat = 0; repeat < 3; ++repeat) {
+      ASSERT_TRUE(query_contact(tree, plane, frames, workspace));
+      const ContactStatistics& stats = workspace.result().statistics;
+      EXPECT_FALSE(stats.complete);
+      EXPECT_LE(static_cast<double>(stats.nodes_traversed), options.degradation.warm_threshold);
+      // Exactly the force of every point of the levels rendered.
+      const BruteForce expected =
+          brute_force(tree, nullptr, {}, plane, frames, options, stats.deepest_level);
+      EXPECT_EQ(stats.points_in_contact, expected.contacts);
+      expect_close(workspace.result().force, expected.force, 1e-12);
+    }
+  }
+}
+
+TEST(ContactQuery, ColdThresholdIsStricterThanTheWarmOne) {
+  const PointTree& tree = fixture().sphere;
+  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  ContactFrames deep, shallow;
+  deep.pointshell = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, 0.6));
+  shallow.pointshell = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, 0.98));
+  ContactWorkspace reference(tree, ContactOptions{});
+  ASSERT_TRUE(query_contact(tree, plane, deep, reference));
+  const double all_nodes = static_cast<double>(reference.result().statistics.nodes_traversed);
+
+  // Between V_C and V_W: a cold workspace stops short, one that rendered every level just
+  // before (shallow contact) keeps the levels warm and renders them all.
+  ContactOptions options;
+  options.degradation.mode = DegradationOptions::Mode::node_count;
+  options.degradation.warm_threshold = all_nodes / 0.9;
+  ContactWorkspace cold(tree, options), warm(tree, options);
+  ASSERT_TRUE(query_contact(tree, plane, deep, cold));
+  EXPECT_FALSE(cold.result().statistics.complete);
+  ASSERT_TRUE(query_contact(tree, plane, shallow, warm));
+  ASSERT_TRUE(warm.result().statistics.complete);
+  ASSERT_TRUE(query_contact(tree, plane, deep, warm));
+  EXPECT_TRUE(warm.result().statistics.complete);
+  EXPECT_EQ(warm.result().force, reference.result().force);
+}
+
+TEST(ContactQuery, TimeBudgetStopsEarlyWhenTight) {
+  const PointTree& tree = fixture().sphere;
+  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  ContactFrames frames;
+  frames.pointshell = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, 0.5));
+  ContactOptions tight, generous;
+  tight.degradation.mode = generous.degradation.mode = DegradationOptions::Mode::time_budget;
+  tight.degradation.budget_microseconds = 0.5;
+  generous.degradation.budget_microseconds = 1e6;
+  ContactWorkspace a(tree, tight), b(tree, generous);
+  for (int repeat = 0; repeat < 3; ++repeat) {
+    ASSERT_TRUE(query_contact(tree, plane, frames, a));
+    ASSERT_TRUE(query_contact(tree, plane, frames, b));
+    EXPECT_EQ(a.result().statistics.deepest_level, 0);
+    EXPECT_FALSE(a.result().statistics.complete);
+    EXPECT_TRUE(b.result().statistics.complete);
+  }
+}
+
+TEST(ContactQuery, AreaWeightsScaleEachPointAndCountTowardsL) {
+  const PointTree& tree = fixture().sphere;
+  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  ContactFrames frames;
+  frames.pointshell = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, 0.9));
+  ContactOptions options;
+  options.scaling_count = 1e9;
+  ContactWorkspace unit(tree, options), doubled(tree, options);
+  doubled.set_area_weights(std::vector<double>(static_cast<std::size_t>(tree.num_points()), 2.0));
+  ASSERT_TRUE(query_contact(tree, plane, frames, unit));
+  ASSERT_TRUE(query_contact(tree, plane, frames, doubled));
+  expect_close(doubled.result().force, 2.0 * unit.result().force, 1e-14);
+  // With L in effect, uniform weights cancel in L/ℓ.
+  options.scaling_count = 10.0;
+  unit.set_options(options);
+  doubled.set_options(options);
+  ASSERT_TRUE(query_contact(tree, plane, frames, unit));
+  ASSERT_TRUE(query_contact(tree, plane, frames, doubled));
+  ASSERT_GT(unit.result().statistics.points_in_contact, 20);
+  expect_close(doubled.result().force, unit.result().force, 1e-14);
+  EXPECT_THROW(doubled.set_area_weights({1.0, 2.0}), Error);
+  std::vector<double> bad(static_cast<std::size_t>(tree.num_points()), 1.0);
+  bad[7] = 0.0;
+  EXPECT_THROW(doubled.set_area_weights(bad), Error);
+}
+
+TEST(ContactQuery, RejectsBadInputWithoutThrowingAndAllocatesNothing) {
+  const PointTree& sphere = fixture().sphere;
+  const DeformablePointTree& cube = fixture().cube;
+  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  ContactFrames frames;
+  frames.pointshell = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, 0.5));
+  ContactOptions options;
+  options.coherence.enabled = true;
+  options.coherence.max_translation = 1e-3;
+  options.degradation.mode = DegradationOptions::Mode::time_budget;
+  ContactWorkspace rigid(sphere, options), deformable(cube, options);
+  ASSERT_TRUE(query_contact(sphere, plane, frames, rigid));
+  Eigen::VectorXd q = Eigen::VectorXd::Constant(r, 0.01);
+  ASSERT_TRUE(query_contact(cube, q, plane, frames, deformable));
+  test::allocation_count = 0;
+  EXPECT_TRUE(query_contact(sphere, plane, frames, rigid));
+  EXPECT_TRUE(query_contact(cube, q, plane, frames, deformable));
+  EXPECT_EQ(test::allocation_count.load(), 0U);
+  EXPECT_FALSE(query_contact(cube.tree(), plane, frames, rigid));  // another tree
+  EXPECT_EQ(rigid.result().force, Eigen::Vector3d::Zero());
+  EXPECT_FALSE(query_contact(cube, Eigen::VectorXd(Eigen::VectorXd::Zero(r + 1)), plane, frames,
+                             deformable));
+  q[2] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(query_contact(cube, q, plane, frames, deformable));
+  ContactFrames broken = frames;
+  broken.grasp_point.x() = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(query_contact(sphere, plane, broken, rigid));
+  EXPECT_EQ(rigid.result().statistics.nodes_traversed, 0);
+
+  ContactOptions bad;
+  bad.stiffness = -1.0;
+  EXPECT_TRUE(
+      test::throws_with_message<Error>([&] { ContactWorkspace w(sphere, bad); }, "stiffness"));
+  bad = ContactOptions{};
+  bad.degradation.cold_fraction = 1.5;
+  EXPECT_TRUE(test::throws_with_message<Error>([&] { rigid.set_options(bad); }, "cold_fraction"));
+}
+
+}  // namespace
+}  // namespace khz::contact
