@@ -107,40 +107,37 @@ class DeformablePoints {
 };
 
 /// Sums of the per-point contributions before the L/ℓ scaling, for the field object (§4.1–§4.2).
+///
+/// A point in contact at r from the grasp point (world), with depth d < 0, inward normal N
+/// (world), field gradient g (world; N under ContactGradient::normal_direction) and weight w
+/// pushes the field object with f = c d N, c = w k_C. Moving the point by (−Δx, −Δω) about the
+/// grasp point with its normal turning along (eq. 4.4: ∂p/∂x = −I, ∂p/∂ω = r̃, ∂N/∂ω = Ñ) gives
+///   ∂f/∂x = −c N gᵀ                 ∂f/∂ω = c N (g × r)ᵀ + f̃
+///   ∂(r×f)/∂x = −c (r × N) gᵀ       ∂(r×f)/∂ω = c (r × N)(g × r)ᵀ + (r × f)~
+/// (eq. 4.5–4.9, with ã b̃ = b aᵀ − (a·b) I folding −f̃ r̃ + c d r̃ Ñ into (r × f)~), so four
+/// outer products per point and the cross matrices of the totals once. When the grasp point
+/// moves with the field object, every lever shortens by Δx and ∂T/∂x gains F̃. The
+/// finite-difference tests in test_contact_query check each term.
 struct ContactSums {
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();
-  Eigen::Vector3d torque = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d force_by_translation = Eigen::Matrix3d::Zero();
-  Eigen::Matrix3d force_by_rotation = Eigen::Matrix3d::Zero();
-  Eigen::Matrix3d torque_by_translation = Eigen::Matrix3d::Zero();
-  Eigen::Matrix3d torque_by_rotation = Eigen::Matrix3d::Zero();
-  double weight = 0.0;  // ℓ, weighted
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();            // Σ f
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();           // Σ r × f
+  Eigen::Matrix3d normal_gradient = Eigen::Matrix3d::Zero();  // Σ c N gᵀ
+  Eigen::Matrix3d normal_lever = Eigen::Matrix3d::Zero();     // Σ c N (g × r)ᵀ
+  Eigen::Matrix3d moment_gradient = Eigen::Matrix3d::Zero();  // Σ c (r × N) gᵀ
+  Eigen::Matrix3d moment_lever = Eigen::Matrix3d::Zero();     // Σ c (r × N)(g × r)ᵀ
+  double weight = 0.0;                                        // ℓ, weighted
 
-  /// A point in contact at r from the grasp point (world), with depth d < 0, inward normal N
-  /// (world), field gradient g (world, or N under ContactGradient::normal_direction), weight w;
-  /// adds the force f = w k d N on the field object and the derivatives of f and r × f for the
-  /// point moving by (−Δx, −Δω) about the grasp point, its normal turning with it (eq. 4.4):
-  ///   ∂p/∂x = −I, ∂p/∂ω = r̃, ∂N/∂ω = Ñ
-  ///   ∂f/∂x = −w k N gᵀ,  ∂f/∂ω = w k (N gᵀ r̃ + d Ñ)
-  ///   ∂(r×f)/∂ω = −f̃ r̃ + r̃ ∂f/∂ω     (eq. 4.9)
-  ///   ∂(r×f)/∂x = r̃ ∂f/∂x, plus f̃ when the grasp point moves with the field object (it is
-  ///   added to the sum by the caller: Σ f̃ is the total force's cross matrix).
-  /// These are eq. 4.5–4.8 with the torque terms' signs as this construction gives them; the
-  /// finite-difference tests in test_contact_query check every one.
   void add(const Eigen::Vector3d& r, double d, const Eigen::Vector3d& normal,
-           const Eigen::Vector3d& gradient, double wk) noexcept {
-    const Eigen::Vector3d f = wk * d * normal;
-    const Eigen::Matrix3d r_cross = cross_matrix(r);
-    const Eigen::Matrix3d f_cross = cross_matrix(f);
-    const Eigen::Matrix3d by_translation = -wk * normal * gradient.transpose();
-    const Eigen::Matrix3d by_rotation =
-        wk * (normal * (gradient.transpose() * r_cross) + d * cross_matrix(normal));
-    force += f;
-    torque += r.cross(f);
-    force_by_translation += by_translation;
-    force_by_rotation += by_rotation;
-    torque_by_translation += r_cross * by_translation;
-    torque_by_rotation += -f_cross * r_cross + r_cross * by_rotation;
+           const Eigen::Vector3d& gradient, double c) noexcept {
+    const Eigen::Vector3d moment = c * r.cross(normal);
+    const Eigen::Vector3d lever = gradient.cross(r);
+    const Eigen::Vector3d scaled_normal = c * normal;
+    force += d * scaled_normal;
+    torque += d * moment;
+    normal_gradient.noalias() += scaled_normal * gradient.transpose();
+    normal_lever.noalias() += scaled_normal * lever.transpose();
+    moment_gradient.noalias() += moment * gradient.transpose();
+    moment_lever.noalias() += moment * lever.transpose();
   }
 };
 
@@ -331,15 +328,15 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
   const double sign = options.haptic_object == HapticObject::distance_field ? 1.0 : -1.0;
   result.force = sign * scale * sums.force;
   result.torque = sign * scale * sums.torque;
-  result.force_by_translation = scale * sums.force_by_translation;
-  result.force_by_rotation = scale * sums.force_by_rotation;
+  result.force_by_translation = -scale * sums.normal_gradient;
+  result.force_by_rotation = scale * (sums.normal_lever + cross_matrix(sums.force));
   // The field object's grasp point moves with it, shortening every lever by Δx (§4.2); a
   // pointshell's moves with the points.
-  result.torque_by_translation =
-      scale * (options.haptic_object == HapticObject::distance_field
-                   ? Eigen::Matrix3d(sums.torque_by_translation + cross_matrix(sums.force))
-                   : sums.torque_by_translation);
-  result.torque_by_rotation = scale * sums.torque_by_rotation;
+  result.torque_by_translation = -scale * sums.moment_gradient;
+  if (options.haptic_object == HapticObject::distance_field) {
+    result.torque_by_translation += scale * cross_matrix(sums.force);
+  }
+  result.torque_by_rotation = scale * (sums.moment_lever + cross_matrix(sums.torque));
   if constexpr (Points::deformable) {
     result.pointshell_reduced_force = scale * ws.m_contact_reduced_force;
   }
