@@ -15,28 +15,8 @@ namespace {
 
 std::size_t index(Eigen::Index i) noexcept { return static_cast<std::size_t>(i); }
 
-// ‖n'_s‖ below this means F_s(q) has collapsed the normal to rounding noise; the rest normal is
-// kept, as reduced::EmbeddedSurface::normal() does.
-constexpr double min_normal_length = 1e-12;
-
 // Points embedded per progress report.
 constexpr Eigen::Index embedding_chunk = 1 << 14;
-
-/// rest + M q for one point's row-major 3×r block M (eq. 3.6 / 3.8): the three rows' dot
-/// products accumulated in one pass over q, so each load of q_j serves all three.
-inline Eigen::Vector3d apply_modes(const double* modes, Eigen::Index r, const double* q,
-                                   const Eigen::Vector3d& rest) noexcept {
-  const double* x = modes;
-  const double* y = modes + r;
-  const double* z = modes + 2 * r;
-  double sx = 0.0, sy = 0.0, sz = 0.0;
-  for (Eigen::Index j = 0; j < r; ++j) {
-    sx += x[j] * q[j];
-    sy += y[j] * q[j];
-    sz += z[j] * q[j];
-  }
-  return rest + Eigen::Vector3d(sx, sy, sz);
-}
 
 /// U_s and ΔN_s of every tree point, in tree point order, from libreduced's embedding.
 struct SampledModes {
@@ -152,24 +132,6 @@ void DeformablePointTree::compute_radius_coefficients(const ProgressCallback& pr
     stage.advance(end - begin);
   }
   stage.finish();
-}
-
-Eigen::Vector3d DeformablePointTree::position(
-    Eigen::Index s, const Eigen::Ref<const Eigen::VectorXd>& q) const noexcept {
-  assert(s >= 0 && s < m_tree.num_points() && q.size() == m_dimension);
-  return apply_modes(m_displacement_modes.data() + 3 * m_dimension * s, m_dimension, q.data(),
-                     m_tree.pointshell().points.row(s).transpose());
-}
-
-Eigen::Vector3d DeformablePointTree::normal(
-    Eigen::Index s, const Eigen::Ref<const Eigen::VectorXd>& q) const noexcept {
-  assert(s >= 0 && s < m_tree.num_points() && q.size() == m_dimension);
-  const Eigen::Vector3d rest = m_tree.pointshell().normals.row(s).transpose();
-  const Eigen::Vector3d pushed =
-      apply_modes(m_normal_modes.data() + 3 * m_dimension * s, m_dimension, q.data(), rest);
-  const double length = pushed.norm();
-  // NaN compares false: a non-finite q propagates rather than silently returning N_s.
-  return length < min_normal_length ? rest : Eigen::Vector3d(pushed / length);
 }
 
 double DeformablePointTree::bounding_radius(

@@ -35,6 +35,10 @@ namespace khz::contact {
 /// thread-safe, and assert their preconditions in debug builds only.
 class KHZ_CONTACT_API DeformablePointTree {
  public:
+  /// ‖n'_s‖ below which normal() keeps the rest normal N_s (F_s(q) has collapsed it to rounding
+  /// noise), as reduced::EmbeddedSurface::normal() does.
+  static constexpr double min_normal_length = 1e-12;
+
   /// A point's 3×r block of modes (U_s or ΔN_s), viewed in place.
   using ModesView = Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>>;
 
@@ -77,14 +81,28 @@ class KHZ_CONTACT_API DeformablePointTree {
     return {m_radius_coefficients.data() + m_dimension * node, m_dimension};
   }
 
-  /// p_s(q) = P_s + U_s q (eq. 3.6, m) in 3r flops. Preconditions: 0 ≤ s < number of points,
-  /// q has r entries.
+  /// p_s(q) = P_s + U_s q (eq. 3.6, m) in 3r flops, inline (the traversal's inner loop).
+  /// Preconditions: 0 ≤ s < number of points, q has r entries.
   Eigen::Vector3d position(Eigen::Index s,
-                           const Eigen::Ref<const Eigen::VectorXd>& q) const noexcept;
+                           const Eigen::Ref<const Eigen::VectorXd>& q) const noexcept {
+    assert(s >= 0 && s < m_tree.num_points() && q.size() == m_dimension);
+    return apply_modes(m_displacement_modes.data() + 3 * m_dimension * s, q.data(),
+                       m_tree.pointshell().points.data() + 3 * s);
+  }
   /// n_s(q) (eq. 3.8): the unit inward normal pushed forward by the deformation gradient, in 3r
-  /// flops and a normalization; N_s where ‖n'_s‖ < 1e-12 (as reduced::EmbeddedSurface::normal).
-  /// Preconditions as for position().
-  Eigen::Vector3d normal(Eigen::Index s, const Eigen::Ref<const Eigen::VectorXd>& q) const noexcept;
+  /// flops and a normalization; N_s where ‖n'_s‖ < min_normal_length (as
+  /// reduced::EmbeddedSurface::normal). A non-finite q gives a non-finite normal. Preconditions
+  /// as for position().
+  Eigen::Vector3d normal(Eigen::Index s,
+                         const Eigen::Ref<const Eigen::VectorXd>& q) const noexcept {
+    assert(s >= 0 && s < m_tree.num_points() && q.size() == m_dimension);
+    const double* rest = m_tree.pointshell().normals.data() + 3 * s;
+    const Eigen::Vector3d pushed =
+        apply_modes(m_normal_modes.data() + 3 * m_dimension * s, q.data(), rest);
+    const double length = pushed.norm();
+    return length < min_normal_length ? Eigen::Vector3d(rest[0], rest[1], rest[2])
+                                      : Eigen::Vector3d(pushed / length);
+  }
   /// R_i(q) = R_i0 + Σ_j a_ij |q_j| (eq. 3.12, m) in r flops; 0 for a leaf. Takes |q| (r
   /// entries, each ≥ 0), computed once per haptic cycle rather than once per node.
   double bounding_radius(Eigen::Index node,
@@ -92,6 +110,34 @@ class KHZ_CONTACT_API DeformablePointTree {
 
  private:
   void compute_radius_coefficients(const ProgressCallback& progress);
+
+  /// rest + M q for a point's row-major 3×r block M: one pass over q serves the three rows, in
+  /// four independent partial sums per row (floating-point addition does not reassociate, so
+  /// the compiler would otherwise chain every product through one register).
+  Eigen::Vector3d apply_modes(const double* modes, const double* q,
+                              const double* rest) const noexcept {
+    constexpr int lanes = 4;
+    const double* x = modes;
+    const double* y = x + m_dimension;
+    const double* z = y + m_dimension;
+    double sx[lanes] = {}, sy[lanes] = {}, sz[lanes] = {};
+    Eigen::Index j = 0;
+    for (; j + lanes <= m_dimension; j += lanes) {
+      for (int l = 0; l < lanes; ++l) {
+        sx[l] += x[j + l] * q[j + l];
+        sy[l] += y[j + l] * q[j + l];
+        sz[l] += z[j + l] * q[j + l];
+      }
+    }
+    for (int l = 0; j < m_dimension; ++j, ++l) {
+      sx[l] += x[j] * q[j];
+      sy[l] += y[j] * q[j];
+      sz[l] += z[j] * q[j];
+    }
+    return {rest[0] + ((sx[0] + sx[1]) + (sx[2] + sx[3])),
+            rest[1] + ((sy[0] + sy[1]) + (sy[2] + sy[3])),
+            rest[2] + ((sz[0] + sz[1]) + (sz[2] + sz[3]))};
+  }
 
   PointTree m_tree;
   Eigen::Index m_dimension = 0;

@@ -63,24 +63,9 @@ class DeformablePoints {
         m_q(q),
         m_abs_q(abs_q),
         m_r(tree.dimension()),
-        m_internal(tree.tree().num_internal_nodes()),
-        m_positions(tree.tree().pointshell().points.data()) {}
+        m_internal(tree.tree().num_internal_nodes()) {}
   const PointTree& tree() const noexcept { return m_tree; }
-  Eigen::Vector3d position(Eigen::Index s) const noexcept {
-    // P_s + U_s q with U_s row-major 3×r: one pass over q serves the three rows.
-    const double* x = m_deformable.displacement_modes(s).data();
-    const double* y = x + m_r;
-    const double* z = y + m_r;
-    const double* q = m_q.data();
-    double sx = 0.0, sy = 0.0, sz = 0.0;
-    for (Eigen::Index j = 0; j < m_r; ++j) {
-      sx += x[j] * q[j];
-      sy += y[j] * q[j];
-      sz += z[j] * q[j];
-    }
-    const double* rest = m_positions + 3 * s;
-    return {rest[0] + sx, rest[1] + sy, rest[2] + sz};
-  }
+  Eigen::Vector3d position(Eigen::Index s) const noexcept { return m_deformable.position(s, m_q); }
   double radius(Eigen::Index node) const noexcept {
     double radius = m_tree.node(node).rest_radius;
     if (node >= m_internal) return radius;
@@ -93,7 +78,11 @@ class DeformablePoints {
   /// reduced += U_sᵀ f (f in the pointshell's body frame).
   void add_reduced_force(Eigen::Index s, const Eigen::Vector3d& f,
                          Eigen::VectorXd& reduced) const noexcept {
-    reduced.noalias() += m_deformable.displacement_modes(s).transpose() * f;
+    const double* x = m_deformable.displacement_modes(s).data();
+    const double* y = x + m_r;
+    const double* z = y + m_r;
+    double* out = reduced.data();
+    for (Eigen::Index j = 0; j < m_r; ++j) out[j] += x[j] * f.x() + y[j] * f.y() + z[j] * f.z();
   }
 
  private:
@@ -103,7 +92,6 @@ class DeformablePoints {
   const double* m_abs_q;
   Eigen::Index m_r;
   Eigen::Index m_internal;
-  const double* m_positions;
 };
 
 /// Sums of the per-point contributions before the L/ℓ scaling, for the field object (§4.1–§4.2).
