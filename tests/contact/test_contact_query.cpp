@@ -76,6 +76,9 @@ const Fixture& fixture() {
   return instance;
 }
 
+/// The solid half-space z < 0.
+ImplicitShape ground() { return HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0); }
+
 Eigen::Isometry3d pose(const Eigen::Vector3d& axis_angle, const Eigen::Vector3d& translation) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   if (axis_angle.norm() > 0.0) {
@@ -336,7 +339,7 @@ INSTANTIATE_TEST_SUITE_P(HapticObjects, ContactGradients,
 
 TEST(ContactQuery, HapticObjectChoiceFlipsForceAndTorqueOnly) {
   const PointTree& tree = fixture().sphere;
-  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  const ImplicitShape plane = ground();
   ContactFrames frames;
   frames.pointshell = pose(Eigen::Vector3d(0.1, 0.2, 0.3), Eigen::Vector3d(0.3, -0.2, 0.85));
   frames.grasp_point = Eigen::Vector3d(0.3, -0.2, 0.85);
@@ -356,7 +359,7 @@ TEST(ContactQuery, NormalDirectionGradientsUseTheNormalForTheFieldGradient) {
   // Against a plane whose normal is the pointshell's normal at the contact, ∇d = N: both
   // gradient modes agree.
   const PointTree& tree = fixture().sphere;
-  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  const ImplicitShape plane = ground();
   ContactFrames frames;
   frames.pointshell = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, 0.999));
   ContactOptions exact, approximate;
@@ -377,7 +380,7 @@ TEST(ContactQuery, ForceConvergesToTheAnalyticLimitLevelByLevel) {
   // the bottom, d = h − c (h = 1 − δ) and N_z = c on the cap c > h, and area is uniform in c:
   //   F_z = k L ∫ (h − c) c dc / ∫ dc over [h, 1] = −k L ((1 − h³)/3 − h(1 − h²)/2) / (1 − h).
   const PointTree& tree = fixture().sphere;
-  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  const ImplicitShape plane = ground();
   const double depth = 0.3, h = 1.0 - depth;
   ContactOptions options;
   options.stiffness = 1.0;
@@ -491,7 +494,7 @@ TEST(ContactQuery, TemporalCoherenceFollowsADeformingPointshell) {
 
 TEST(ContactQuery, DegradationCompletesLevelsOrDoesNotStartThem) {
   const PointTree& tree = fixture().sphere;
-  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  const ImplicitShape plane = ground();
   ContactFrames frames;
   frames.pointshell = pose(Eigen::Vector3d(0.3, 0.1, 0.0), Eigen::Vector3d(0.0, 0.0, 0.5));
   ContactOptions full;
@@ -520,7 +523,7 @@ TEST(ContactQuery, DegradationCompletesLevelsOrDoesNotStartThem) {
 
 TEST(ContactQuery, ColdThresholdIsStricterThanTheWarmOne) {
   const PointTree& tree = fixture().sphere;
-  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  const ImplicitShape plane = ground();
   ContactFrames deep, shallow;
   deep.pointshell = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, 0.6));
   shallow.pointshell = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, 0.98));
@@ -545,7 +548,7 @@ TEST(ContactQuery, ColdThresholdIsStricterThanTheWarmOne) {
 
 TEST(ContactQuery, TimeBudgetStopsEarlyWhenTight) {
   const PointTree& tree = fixture().sphere;
-  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  const ImplicitShape plane = ground();
   ContactFrames frames;
   frames.pointshell = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, 0.5));
   ContactOptions tight, generous;
@@ -564,7 +567,7 @@ TEST(ContactQuery, TimeBudgetStopsEarlyWhenTight) {
 
 TEST(ContactQuery, AreaWeightsScaleEachPointAndCountTowardsL) {
   const PointTree& tree = fixture().sphere;
-  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  const ImplicitShape plane = ground();
   ContactFrames frames;
   frames.pointshell = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, 0.9));
   ContactOptions options;
@@ -591,7 +594,7 @@ TEST(ContactQuery, AreaWeightsScaleEachPointAndCountTowardsL) {
 TEST(ContactQuery, RejectsBadInputWithoutThrowingAndAllocatesNothing) {
   const PointTree& sphere = fixture().sphere;
   const DeformablePointTree& cube = fixture().cube;
-  const ImplicitShape plane = HalfSpace(Eigen::Vector3d(0.0, 0.0, 1.0), 0.0);
+  const ImplicitShape plane = ground();
   ContactFrames frames;
   frames.pointshell = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, 0.5));
   ContactOptions options;
