@@ -1,3 +1,4 @@
+#include <khz/contact/field/deformed_distance_field.hpp>
 #include <khz/contact/field/distance_grid.hpp>
 #include <khz/contact/field/implicit_shapes.hpp>
 #include <khz/contact/field/mesh_distance_field.hpp>
@@ -226,6 +227,60 @@ TEST(ContactQuery, DeformableTreeEqualsBruteForceWithReducedForces) {
     touching += expected.contacts > 0 ? 1 : 0;
   }
   EXPECT_GE(touching, 5);
+}
+
+TEST(ContactQuery, DeformableAgainstDeformableAppliesTheReactionToBothObjects) {
+  // The cube pointshell against a second, deformed cube (§3.12): its field from 40 proxies on
+  // a 32³ rest field, the same volume mesh and a smaller random basis.
+  const Fixture& f = fixture();
+  const DeformablePointTree& tree = f.cube;
+  DistanceFieldOptions grid_options;
+  grid_options.cells = 32;
+  const Eigen::MatrixXd field_basis = 0.1 * f.basis.leftCols(4);
+  const DeformedDistanceField deformed({signed_distance_field(test::unit_cube_surface(),
+                                                              grid_options)},
+                                       f.embedding, field_basis);
+  DeformedFieldState field(deformed);
+  ContactOptions options;
+  options.coherence.enabled = true;  // not provable against a deforming field: left off
+  options.coherence.max_translation = 1.0;
+  ContactWorkspace workspace(tree, options, deformed.dimension());
+  Eigen::VectorXd q(r);
+  q << 0.05, -0.02, 0.03, 0.01, -0.04, 0.02;
+  int touching = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    ASSERT_TRUE(field.update(Eigen::Vector4d(0.3, -0.2, 0.1 * trial, 0.2)));
+    ContactFrames frames;
+    frames.field = pose(Eigen::Vector3d(0.1 * trial, 0.0, 0.2),
+                        Eigen::Vector3d(0.95 - 0.02 * trial, 0.1, 0.05));
+    frames.grasp_point = frames.field * Eigen::Vector3d(0.5, 0.5, 0.5);
+    ASSERT_TRUE(query_contact(tree, q, field, frames, workspace));
+    const ContactResult& result = workspace.result();
+    const BruteForce expected =
+        brute_force(tree.tree(), &tree, q, field, frames, options, tree.tree().num_levels() - 1);
+    EXPECT_EQ(result.statistics.nodes_skipped, 0);
+    EXPECT_EQ(result.statistics.points_in_contact, expected.contacts);
+    expect_close(result.force, expected.force, 1e-12);
+    expect_close(result.torque, expected.torque, 1e-12);
+    expect_close(result.pointshell_reduced_force, expected.reduced, 1e-12);
+    // The reaction on the field object, projected at the nearest proxies, recomputed here.
+    Eigen::VectorXd field_reduced = Eigen::VectorXd::Zero(deformed.dimension());
+    const double scale = options.scaling_count /
+                         std::max(options.scaling_count, static_cast<double>(expected.contacts));
+    for (Eigen::Index s = 0; s < tree.tree().num_points(); ++s) {
+      const Eigen::Vector3d x = frames.pointshell * tree.position(s, q);
+      const Eigen::Vector3d body = frames.field.inverse() * x;
+      const double d = field.distance(body);
+      if (!(d < 0.0)) continue;
+      const Eigen::Vector3d force_world = options.stiffness * d * tree.normal(s, q);
+      const Eigen::Index n = field.nearest_proxy(body);
+      field_reduced += deformed.displacement_modes(n).transpose() *
+                       (frames.field.linear().transpose() * (scale * force_world));
+    }
+    expect_close(result.field_reduced_force, field_reduced, 1e-12);
+    touching += expected.contacts > 0 ? 1 : 0;
+  }
+  EXPECT_GE(touching, 4);
 }
 
 /// Central differences of the force and torque on the haptic object as it moves by (Δx, Δω)

@@ -224,6 +224,6 @@ class KHZ_CONTACT_API DeformedFieldState {
   Eigen::VectorXd m_gradient;  // 9N: F_i − I of the q being tried
 };
 
-static_assert(DistanceField<DeformedFieldState>);
+static_assert(DeformableDistanceField<DeformedFieldState>);
 
 }  // namespace khz::contact

@@ -27,15 +27,15 @@ concept DistanceField = requires(const Field& field, const Eigen::Vector3d& p, E
 /// besides the distances it takes the reaction of a contact, so the contact query can apply it to
 /// the object's integrator.
 /// - dimension(): r, the object's number of reduced coordinates.
-/// - add_reduced_force(X, f, reduced): adds to `reduced` (r entries) the reduced force of force f
-///   (N, body frame) applied at X (m, body frame).
+/// - add_reduced_force(X, f, reduced): adds to `reduced` (r entries, an Eigen::VectorXd) the
+///   reduced force of force f (N, body frame) applied at X (m, body frame). It must not throw or
+///   allocate (the concept cannot check it: binding an Eigen::Ref is not noexcept).
 template <typename Field>
 concept DeformableDistanceField = DistanceField<Field> &&
-    requires(const Field& field, const Eigen::Vector3d& x, Eigen::Ref<Eigen::VectorXd> reduced) {
+    requires(const Field& field, const Eigen::Vector3d& x, Eigen::VectorXd& reduced) {
   { field.dimension() }
   noexcept->std::convertible_to<Eigen::Index>;
-  { field.add_reduced_force(x, x, reduced) }
-  noexcept;
+  field.add_reduced_force(x, x, reduced);
 };
 
 }  // namespace khz::contact
