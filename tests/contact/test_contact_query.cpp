@@ -237,9 +237,8 @@ TEST(ContactQuery, DeformableAgainstDeformableAppliesTheReactionToBothObjects) {
   DistanceFieldOptions grid_options;
   grid_options.cells = 32;
   const Eigen::MatrixXd field_basis = 0.1 * f.basis.leftCols(4);
-  const DeformedDistanceField deformed({signed_distance_field(test::unit_cube_surface(),
-                                                              grid_options)},
-                                       f.embedding, field_basis);
+  const DeformedDistanceField deformed(
+      {signed_distance_field(test::unit_cube_surface(), grid_options)}, f.embedding, field_basis);
   DeformedFieldState field(deformed);
   ContactOptions options;
   options.coherence.enabled = true;  // not provable against a deforming field: left off
@@ -492,6 +491,7 @@ TEST(ContactQuery, TemporalCoherenceChangesNoResultAndSkipsNodes) {
   coherent.coherence.max_rotation = 4.001e-3;
   ContactWorkspace a(tree, plain), b(tree, coherent);
   std::int64_t traversed_plain = 0, traversed_coherent = 0, skipped = 0, contacts = 0;
+  int resets = 0;
   for (const ContactFrames& frames : sweep()) {
     ASSERT_TRUE(query_contact(tree, box, frames, a));
     ASSERT_TRUE(query_contact(tree, box, frames, b));
@@ -500,6 +500,7 @@ TEST(ContactQuery, TemporalCoherenceChangesNoResultAndSkipsNodes) {
     ASSERT_EQ(a.result().torque, b.result().torque);
     ASSERT_EQ(a.result().force_by_rotation, b.result().force_by_rotation);
     ASSERT_EQ(a.result().statistics.points_in_contact, b.result().statistics.points_in_contact);
+    resets += b.result().statistics.coherence_reset ? 1 : 0;
     traversed_plain += a.result().statistics.nodes_traversed;
     traversed_coherent += b.result().statistics.nodes_traversed;
     skipped += b.result().statistics.nodes_skipped;
@@ -507,6 +508,7 @@ TEST(ContactQuery, TemporalCoherenceChangesNoResultAndSkipsNodes) {
   }
   EXPECT_GT(contacts, 1000);
   EXPECT_GT(skipped, 0);
+  EXPECT_EQ(resets, 1);  // the teleport, and nothing else
   std::printf("nodes traversed: %lld without temporal coherence, %lld with (%lld skipped)\n",
               static_cast<long long>(traversed_plain), static_cast<long long>(traversed_coherent),
               static_cast<long long>(skipped));

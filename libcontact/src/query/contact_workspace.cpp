@@ -72,7 +72,11 @@ ContactWorkspace::ContactWorkspace(const PointTree& tree, const ContactOptions& 
   m_result.field_reduced_force = Eigen::VectorXd::Zero(field_dimension);
   m_previous_rotation.setIdentity();
   m_previous_reference.setZero();
-  m_reference_point = bounding_box_centre(tree.pointshell().points);
+  const PointMatrix& points = tree.pointshell().points;
+  m_reference_point = bounding_box_centre(points);
+  if (points.rows() > 0) {
+    m_rest_reach = (points.rowwise() - m_reference_point.transpose()).rowwise().norm().maxCoeff();
+  }
   reset();
 }
 
@@ -106,7 +110,7 @@ void ContactWorkspace::reset() noexcept {
   m_seconds_per_unit = initial_seconds_per_unit;
 }
 
-void ContactWorkspace::begin_coherence(const Eigen::Matrix3d& rotation,
+bool ContactWorkspace::begin_coherence(const Eigen::Matrix3d& rotation,
                                        const Eigen::Vector3d& translation,
                                        const double* q) noexcept {
   const CoherenceOptions& bounds = m_options.coherence;
@@ -118,6 +122,7 @@ void ContactWorkspace::begin_coherence(const Eigen::Matrix3d& rotation,
   }
   ++m_cycle;
   const Eigen::Vector3d reference = rotation * m_reference_point + translation;
+  bool dropped = false;
   if (m_have_previous) {
     // A point p moves by (R − R')(p − c) + (reference − reference'): the spectral norm of R − R'
     // (2 sin θ/2 for a rotation by θ, ‖R − R'‖_F / √2) bounds the first part per metre of ρ;
@@ -134,22 +139,29 @@ void ContactWorkspace::begin_coherence(const Eigen::Matrix3d& rotation,
           deformed <= bounds.max_deformation)) {
       // Every skip ends by m_cycle + max_skip: jumping past that drops them all in O(1).
       m_cycle += max_skip + 1;
+      dropped = true;
     }
   }
   m_have_previous = true;
   m_previous_rotation = rotation;
   m_previous_reference = reference;
-  if (q != nullptr) m_previous_q = Eigen::Map<const Eigen::VectorXd>(q, m_pointshell_dimension);
+  // Every point is within ρ = max_s ‖P_s − c‖ + max_s ‖U_s‖·‖q‖ of the reference point c, so
+  // none moves more than this per query while the bounds hold.
+  double reach = m_rest_reach;
+  if (q != nullptr) {
+    const Eigen::Map<const Eigen::VectorXd> current(q, m_pointshell_dimension);
+    m_previous_q = current;
+    reach += m_modes_norm * current.norm();
+  }
+  m_motion_per_query =
+      bounds.max_translation + bounds.max_deformation + bounds.max_rotation * reach;
+  return dropped;
 }
 
-std::uint32_t ContactWorkspace::coherent_skip_until(double gap, double reach) const noexcept {
-  const CoherenceOptions& bounds = m_options.coherence;
-  // Per query, no point of the sphere moves more than this relative to the field (m).
-  const double motion =
-      bounds.max_translation + bounds.max_deformation + bounds.max_rotation * reach;
-  double skips = bounds.max_skip;
+std::uint32_t ContactWorkspace::coherent_skip_until(double gap) const noexcept {
+  double skips = m_options.coherence.max_skip;
   // k queries later the gap has shrunk by at most k·motion: skip the k with k·motion < gap.
-  if (motion > 0.0) skips = std::min(skips, std::ceil(gap / motion) - 1.0);
+  if (m_motion_per_query > 0.0) skips = std::min(skips, std::ceil(gap / m_motion_per_query) - 1.0);
   return m_cycle + 1 + static_cast<std::uint32_t>(std::max(skips, 0.0));
 }
 

@@ -55,14 +55,16 @@ struct KHZ_CONTACT_API DegradationOptions {
 
 /// Temporal coherence (§3.10.2): a node whose bounding sphere was a gap g away from contact is
 /// not visited again until motion could have closed the gap. The caller declares how far, per
-/// query, any pointshell point can move relative to the field object:
+/// query, the pointshell may move relative to the field object; then no point moves more than
 ///   translation + rotation · ρ + deformation   (m per query)
-/// with ρ the point's distance from the pointshell's reference point (the centre of its rest
-/// bounding box). Each query measures the motion that actually happened since the previous one
-/// (the relative pose, and for a deformable pointshell max_s ‖U_s‖·‖Δq‖); if it exceeds a
-/// declared bound, every cached skip is dropped before the traversal, so a skipped node is
-/// never in contact. Not used against a deformable distance field (its values change with the
-/// field's own deformation, which no bound here covers).
+/// with ρ the farthest any point is from the pointshell's reference point (the centre of its
+/// rest bounding box; for a deformable pointshell plus max_s ‖U_s‖·‖q‖). Each query measures the
+/// motion that actually happened since the previous one (the relative pose, and for a
+/// deformable pointshell max_s ‖U_s‖·‖Δq‖); if it exceeds a declared bound, every cached skip is
+/// dropped before the traversal (ContactStatistics::coherence_reset), so a skipped node is never
+/// in contact — given a field that changes no faster than the distance moved, as a distance
+/// function does and the culling test itself assumes. Not used against a deformable distance
+/// field (its values change with the field's own deformation, which no bound here covers).
 struct KHZ_CONTACT_API CoherenceOptions {
   bool enabled = false;
   /// Largest motion (m) per query of the pointshell's reference point in the field's frame.

@@ -15,6 +15,9 @@ struct KHZ_CONTACT_API ContactStatistics {
   std::int64_t nodes_traversed = 0;
   /// Nodes temporal coherence let the traversal skip without looking at their point.
   std::int64_t nodes_skipped = 0;
+  /// Whether this query found motion beyond the declared temporal-coherence bounds since the
+  /// previous one and dropped every skip (it then visits as a query without coherence would).
+  bool coherence_reset = false;
   /// Distinct points in contact (d < 0).
   std::int64_t points_in_contact = 0;
   /// The deepest tree level rendered (−1 before the first query).

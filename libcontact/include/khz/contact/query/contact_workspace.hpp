@@ -65,11 +65,11 @@ class KHZ_CONTACT_API ContactWorkspace {
   /// Starts a query's temporal coherence: advances the cycle, measures the relative motion since
   /// the previous query (pointshell body → field body: `rotation`, `translation`; q of a
   /// deformable pointshell or nullptr) and drops every skip if it exceeds the declared bounds.
-  void begin_coherence(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation,
+  /// Returns whether it dropped them.
+  bool begin_coherence(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation,
                        const double* q) noexcept;
-  /// The query after which a node culled with gap `gap` (m, > 0) at distance `reach` (m) from
-  /// the reference point (its sphere's far side) must be looked at again.
-  std::uint32_t coherent_skip_until(double gap, double reach) const noexcept;
+  /// The query after which a node culled with gap `gap` (m, > 0) must be looked at again.
+  std::uint32_t coherent_skip_until(double gap) const noexcept;
   /// time_budget mode: the cost per unit (s) to plan with, `elapsed` (s) into a query that has
   /// done `units` so far.
   double seconds_per_unit(double elapsed, double units) const noexcept;
@@ -99,7 +99,9 @@ class KHZ_CONTACT_API ContactWorkspace {
   Eigen::Vector3d m_previous_reference;  // reference point in the field frame
   Eigen::VectorXd m_previous_q;
   Eigen::Vector3d m_reference_point;  // pointshell body frame: rest bounding-box centre
+  double m_rest_reach = 0.0;          // max_s ‖P_s − reference point‖ (m)
   double m_modes_norm = 0.0;          // max_s ‖U_s‖_F (deformable pointshells)
+  double m_motion_per_query = 0.0;    // bound on any point's motion per query (m)
 
   // Graceful degradation.
   int m_warm_level = -1;

@@ -186,18 +186,15 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
   const Eigen::Vector3d translation =
       rotation_f.transpose() * (translation_p - frames.field.translation());
 
-  const bool coherent = options.coherence.enabled && !deformable_field;
-  if (coherent) {
-    if constexpr (Points::deformable) {
-      ws.begin_coherence(rotation, translation, points.q_data());
-    } else {
-      ws.begin_coherence(rotation, translation, nullptr);
-    }
-  }
-
   ContactResult& result = ws.m_result;
   ContactStatistics& stats = result.statistics;
   stats = ContactStatistics{};
+  const bool coherent = options.coherence.enabled && !deformable_field;
+  if (coherent) {
+    const double* q = nullptr;
+    if constexpr (Points::deformable) q = points.q_data();
+    stats.coherence_reset = ws.begin_coherence(rotation, translation, q);
+  }
   ContactSums sums;
   ws.m_contact_reduced_force.setZero();
   result.field_reduced_force.setZero();
@@ -243,11 +240,8 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
       }
       const double radius = points.radius(n);
       if (d > radius) {
-        if (coherent) {
-          if (!first_instance) p = points.position(s);
-          ws.m_skip_until[static_cast<std::size_t>(n)] =
-              ws.coherent_skip_until(d - radius, (p - ws.m_reference_point).norm() + radius);
-        }
+        if (coherent)
+          ws.m_skip_until[static_cast<std::size_t>(n)] = ws.coherent_skip_until(d - radius);
         continue;
       }
       for (std::int32_t c = 0; c < node.child_count; ++c) next[next_count++] = node.first_child + c;
