@@ -120,25 +120,21 @@ class DeformablePoints {
 /// moves with the field object, every lever shortens by Δx and ∂T/∂x gains F̃. The
 /// finite-difference tests in test_contact_query check each term.
 struct ContactSums {
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();            // Σ f
-  Eigen::Vector3d torque = Eigen::Vector3d::Zero();           // Σ r × f
-  Eigen::Matrix3d normal_gradient = Eigen::Matrix3d::Zero();  // Σ c N gᵀ
-  Eigen::Matrix3d normal_lever = Eigen::Matrix3d::Zero();     // Σ c N (g × r)ᵀ
-  Eigen::Matrix3d moment_gradient = Eigen::Matrix3d::Zero();  // Σ c (r × N) gᵀ
-  Eigen::Matrix3d moment_lever = Eigen::Matrix3d::Zero();     // Σ c (r × N)(g × r)ᵀ
-  double weight = 0.0;                                        // ℓ, weighted
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();   // Σ f
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();  // Σ r × f
+  /// The four outer-product sums as one 6×6 matrix, one vectorized update per point:
+  /// Σ c [N; r × N] [g; g × r]ᵀ = [Σ c N gᵀ, Σ c N (g × r)ᵀ; Σ c (r × N) gᵀ, Σ c (r × N)(g × r)ᵀ].
+  Eigen::Matrix<double, 6, 6> moments = Eigen::Matrix<double, 6, 6>::Zero();
+  double weight = 0.0;  // ℓ, weighted
 
   void add(const Eigen::Vector3d& r, double d, const Eigen::Vector3d& normal,
            const Eigen::Vector3d& gradient, double c) noexcept {
-    const Eigen::Vector3d moment = c * r.cross(normal);
-    const Eigen::Vector3d lever = gradient.cross(r);
-    const Eigen::Vector3d scaled_normal = c * normal;
-    force += d * scaled_normal;
-    torque += d * moment;
-    normal_gradient.noalias() += scaled_normal * gradient.transpose();
-    normal_lever.noalias() += scaled_normal * lever.transpose();
-    moment_gradient.noalias() += moment * gradient.transpose();
-    moment_lever.noalias() += moment * lever.transpose();
+    Eigen::Matrix<double, 6, 1> left, right;
+    left << c * normal, c * r.cross(normal);
+    right << gradient, gradient.cross(r);
+    force += d * left.head<3>();
+    torque += d * left.tail<3>();
+    moments.noalias() += left * right.transpose();
   }
 };
 
@@ -347,15 +343,17 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
   const double sign = options.haptic_object == HapticObject::distance_field ? 1.0 : -1.0;
   result.force = sign * scale * sums.force;
   result.torque = sign * scale * sums.torque;
-  result.force_by_translation = -scale * sums.normal_gradient;
-  result.force_by_rotation = scale * (sums.normal_lever + cross_matrix(sums.force));
+  result.force_by_translation = -scale * sums.moments.topLeftCorner<3, 3>();
+  result.force_by_rotation =
+      scale * (sums.moments.topRightCorner<3, 3>() + cross_matrix(sums.force));
   // The field object's grasp point moves with it, shortening every lever by Δx (§4.2); a
   // pointshell's moves with the points.
-  result.torque_by_translation = -scale * sums.moment_gradient;
+  result.torque_by_translation = -scale * sums.moments.bottomLeftCorner<3, 3>();
   if (options.haptic_object == HapticObject::distance_field) {
     result.torque_by_translation += scale * cross_matrix(sums.force);
   }
-  result.torque_by_rotation = scale * (sums.moment_lever + cross_matrix(sums.torque));
+  result.torque_by_rotation =
+      scale * (sums.moments.bottomRightCorner<3, 3>() + cross_matrix(sums.torque));
   if constexpr (Points::deformable) {
     result.pointshell_reduced_force = scale * ws.m_contact_reduced_force;
   }
