@@ -10,6 +10,8 @@
 //    (262k points, 5 levels) a little wider than the hole, lowered into it slightly turned and
 //    off-centre, so most of its walls touch: full traversal, and time-budget degradation
 //    (§3.10.3) at 100 and 250 µs.
+// E  deformable–deformable (Table 3.1's dragon + dinosaur): B's dragon and path against the dino
+//    deforming too (r = 15), through its deformed distance field (§3.12: 40 proxies, k = 5).
 // D  graceful degradation's force error: force and torque rendering levels 0…L−1 only, against
 //    the full depth, at contact poses of A and C.
 //
@@ -20,10 +22,11 @@
 // end collect every run. Precomputes are cached in KHZ_CONTACT_CACHE_DIR (first run: minutes;
 // later runs: seconds).
 //
-// Extension point: Scene<Tree, Field> and run_scene() take any DistanceField, so a deformable
-// distance-field object (deformable–deformable, Table 3.1's dragon + dinosaur) is one more scene.
+// Scene<Tree, Field> and run_scene() take any DistanceField; a scene's `prepare` deforms a
+// deformable field object before each query.
 #include "contact_scenes.hpp"
 
+#include <khz/contact/field/deformed_distance_field.hpp>
 #include <khz/contact/query/contact_query.hpp>
 
 #include <benchmark/benchmark.h>
@@ -35,7 +38,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <type_traits>
@@ -70,6 +75,10 @@ struct Scene {
   double voxel = 0.0;       // the field's spacing (m)
   Trajectory trajectory;
   kc::CoherenceOptions coherence;  // bounds the trajectory keeps
+  /// r of a deformable field object (0: rigid), and what brings it to pose i's deformation
+  /// before that pose's query (timed with it: it is part of the haptic cycle).
+  Eigen::Index field_dimension = 0;
+  std::function<bool(std::size_t)> prepare;
 
   const kc::PointTree& point_tree() const {
     if constexpr (std::is_same_v<Tree, kc::DeformablePointTree>) {
@@ -155,6 +164,39 @@ double modes_norm(const kc::DeformablePointTree& tree) {
   return largest;
 }
 
+/// The vertices of the lowest 8% in y: the anchors of B's and E's reduced models.
+std::vector<int> lowest_vertices(const kr::VolumeMesh& volume) {
+  const double low = volume.vertices.col(1).minCoeff();
+  const double high = volume.vertices.col(1).maxCoeff();
+  std::vector<int> anchors;
+  for (Eigen::Index v = 0; v < volume.num_vertices(); ++v) {
+    if (volume.vertices(v, 1) < low + 0.08 * (high - low)) anchors.push_back(static_cast<int>(v));
+  }
+  return anchors;
+}
+
+/// q(t) of a scripted deformation: each coordinate a sine of 1–3 periods over the trajectory.
+Eigen::VectorXd scripted_q(Eigen::Index r, double t) {
+  Eigen::VectorXd q(r);
+  for (Eigen::Index j = 0; j < r; ++j) {
+    const double periods = 1.0 + static_cast<double>(j % 3);
+    q[j] = std::sin(2.0 * std::numbers::pi * periods * t + 0.7 * static_cast<double>(j)) /
+           (1.0 + 0.3 * static_cast<double>(j));
+  }
+  return q;
+}
+
+/// The factor that makes scripted_q()'s largest vertex displacement `size` (m) over t ∈ [0, 1].
+double scripted_amplitude(const kr::Basis& basis, double size) {
+  double largest = 0.0;
+  for (int k = 0; k <= 100; ++k) {
+    const Eigen::VectorXd u = basis.vectors * scripted_q(basis.vectors.cols(), k / 100.0);
+    for (Eigen::Index v = 0; 3 * v < u.size(); ++v)
+      largest = std::max(largest, u.segment<3>(3 * v).norm());
+  }
+  return size / largest;
+}
+
 // B: the dragon (0.5 m) bending and twisting with r = 15 while it rubs the dino's flank.
 const Scene<kc::DeformablePointTree, kc::DistanceGrid>& scene_b() {
   static const auto scene = [] {
@@ -163,44 +205,20 @@ const Scene<kc::DeformablePointTree, kc::DistanceGrid>& scene_b() {
     voxels.resolution = 32;
     voxels.fill_interior = true;
     const kr::VolumeMesh volume = kr::voxelize(dragon, voxels);
-    // Anchored at its lowest 8% in y.
-    const double low = volume.vertices.col(1).minCoeff();
-    const double high = volume.vertices.col(1).maxCoeff();
-    std::vector<int> anchors;
-    for (Eigen::Index v = 0; v < volume.num_vertices(); ++v) {
-      if (volume.vertices(v, 1) < low + 0.08 * (high - low)) anchors.push_back(static_cast<int>(v));
-    }
+    const std::vector<int> anchors = lowest_vertices(volume);
     const kr::Basis basis = khz::bench::cached_basis("dragon_voxel32", volume, anchors, 15);
     static const kc::DeformablePointTree tree = khz::bench::cached_deformable_tree(
         "dragon_262229_L5_voxel32_r15",
         [&] { return khz::bench::cached_pointshell("dragon", dragon, true, 256, 769, 5); }, volume,
         basis);
 
-    // q(t): each coordinate a sine of 1–3 periods over the trajectory, scaled so the largest
-    // vertex displacement is about 8% of the dragon's size (40 mm).
+    // q(t) scaled so the largest vertex displacement is about 8% of the dragon's size (40 mm).
     const Eigen::Index r = tree.dimension();
-    const auto shape = [r](double t) {
-      Eigen::VectorXd q(r);
-      for (Eigen::Index j = 0; j < r; ++j) {
-        const double periods = 1.0 + static_cast<double>(j % 3);
-        q[j] = std::sin(2.0 * std::numbers::pi * periods * t + 0.7 * static_cast<double>(j)) /
-               (1.0 + 0.3 * static_cast<double>(j));
-      }
-      return q;
-    };
-    double largest = 0.0;
-    for (int k = 0; k <= 100; ++k) {
-      const Eigen::VectorXd u = basis.vectors * shape(k / 100.0);
-      for (Eigen::Index v = 0; v < volume.num_vertices(); ++v) {
-        largest = std::max(largest, u.segment<3>(3 * v).norm());
-      }
-    }
-    const double amplitude = 0.04 / largest;
-
+    const double amplitude = scripted_amplitude(basis, 0.04);
     auto s = dino_scene("B deformable dragon r=15/dino", tree);
     const double h = s.voxel;
     TrajectoryScript script = flank_script(h, 40.0, 0.0, 0.2);
-    script.q = [shape, amplitude](double t) { return Eigen::VectorXd(amplitude * shape(t)); };
+    script.q = [r, amplitude](double t) { return Eigen::VectorXd(amplitude * scripted_q(r, t)); };
     const Clock::time_point start = Clock::now();
     s.trajectory = khz::bench::record_trajectory(
         script, [&](const Eigen::VectorXd& q) { return khz::bench::DeformedShape(tree, q); },
@@ -208,9 +226,50 @@ const Scene<kc::DeformablePointTree, kc::DistanceGrid>& scene_b() {
     khz::bench::precompute_log().push_back(
         {"B trajectory", khz::bench::seconds_since(start), false});
     s.coherence = khz::bench::coherence_bounds(s.trajectory, tree.tree(), modes_norm(tree));
-    std::printf("  B: %ld hexahedra, %ld anchors, r = %ld, largest displacement %.0f mm\n",
+    std::printf("  B: %ld hexahedra, %ld anchors, r = %ld, largest displacement 40 mm\n",
                 static_cast<long>(volume.num_elements()), static_cast<long>(anchors.size()),
-                static_cast<long>(r), 1e3 * amplitude * largest);
+                static_cast<long>(r));
+    return s;
+  }();
+  return scene;
+}
+
+// E: B's dragon and path against the dino deforming too (r = 15, a voxel model anchored at its
+// lowest 8%, its largest displacement 6 mm, about one voxel): the deformed distance field of
+// §3.12 with 40 proxies on dino.off's 256³ rest field (Table 3.1's dragon(d) + dinosaur(d)).
+// The path was recorded against the rest field. Temporal coherence does not apply.
+const Scene<kc::DeformablePointTree, kc::DeformedFieldState>& scene_e() {
+  static const auto scene = [] {
+    const auto& b = scene_b();
+    const kr::VolumeMesh volume = [] {
+      kr::VoxelizeOptions voxels;
+      voxels.resolution = 32;
+      voxels.fill_interior = true;
+      return kr::voxelize(khz::bench::demo_mesh("dino.off", 1.0), voxels);
+    }();
+    const kr::Basis basis =
+        khz::bench::cached_basis("dino_voxel32", volume, lowest_vertices(volume), 15);
+    const Clock::time_point start = Clock::now();
+    static const kc::DeformedDistanceField deformed({dino_field()}, kr::MeshEmbedding(volume),
+                                                    basis.vectors);
+    khz::bench::precompute_log().push_back(
+        {"dino proxies and modes", khz::bench::seconds_since(start), false});
+    static kc::DeformedFieldState state(deformed);
+    const double amplitude = scripted_amplitude(basis, 0.006);
+    auto field_q = std::make_shared<std::vector<Eigen::VectorXd>>();
+    for (std::size_t i = 0; i < b.trajectory.size(); ++i) {
+      const double t = static_cast<double>(i) / static_cast<double>(b.trajectory.size() - 1);
+      field_q->push_back(amplitude * scripted_q(basis.vectors.cols(), 1.0 - t));
+    }
+    Scene<kc::DeformablePointTree, kc::DeformedFieldState> s;
+    s.name = "E dragon r=15/dino r=15";
+    s.tree = b.tree;
+    s.field = &state;
+    s.field_label = cube_label(dino_field());
+    s.voxel = b.voxel;
+    s.trajectory = b.trajectory;
+    s.field_dimension = deformed.dimension();
+    s.prepare = [field_q](std::size_t i) { return state.update((*field_q)[i]); };
     return s;
   }();
   return scene;
@@ -261,6 +320,7 @@ const Scene<kc::PointTree, kc::DistanceGrid>& scene_c() {
 
 template <typename Tree, kc::DistanceField Field>
 bool query(const Scene<Tree, Field>& scene, std::size_t pose, kc::ContactWorkspace& workspace) {
+  if (scene.prepare && !scene.prepare(pose)) return false;
   kc::ContactFrames frames;
   frames.pointshell = scene.trajectory.pointshell[pose];
   if constexpr (std::is_same_v<Tree, kc::DeformablePointTree>) {
@@ -327,7 +387,7 @@ void write_csv(const std::string& run, const std::string& text) {
 template <typename Tree, kc::DistanceField Field>
 RunSummary run_scene(const Scene<Tree, Field>& scene, const kc::ContactOptions& options,
                      const std::string& variant) {
-  kc::ContactWorkspace workspace(*scene.tree, options);
+  kc::ContactWorkspace workspace(*scene.tree, options, scene.field_dimension);
   std::vector<double> us, nodes, skipped, contacts;
   RunSummary summary;
   double total_seconds = 0.0, total_nodes = 0.0;
@@ -468,7 +528,7 @@ std::vector<LevelErrors>& level_errors() {
 /// poses: the force and torque with max_level = 0 … L−1 against the full depth.
 template <typename Tree, kc::DistanceField Field>
 void force_error_per_level(const Scene<Tree, Field>& scene) {
-  kc::ContactWorkspace workspace(*scene.tree, kc::ContactOptions{});
+  kc::ContactWorkspace workspace(*scene.tree, kc::ContactOptions{}, scene.field_dimension);
   std::vector<std::pair<long, std::size_t>> by_contacts;
   for (std::size_t i = 0; i < scene.trajectory.size(); ++i) {
     query(scene, i, workspace);
@@ -553,6 +613,7 @@ int main(int argc, char** argv) {
   register_runs("A_rigid_bunny1M_dino256", scene_a, false);
   register_runs("B_deformable_dragon_r15_dino256", scene_b, false);
   register_runs("C_peg_in_hole", scene_c, true);
+  register_runs("E_deformable_dragon_r15_deformable_dino_r15", scene_e, false);
   benchmark::RegisterBenchmark("D_force_error_per_level", [](benchmark::State& state) {
     for (auto _ : state) {
       force_error_per_level(scene_a());

@@ -181,6 +181,7 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
   const PointTree& tree = points.tree();
   const ContactOptions& options = ws.m_options;
   constexpr bool deformable_field = DeformableDistanceField<Field>;
+  constexpr bool gradient_with_value = !deformable_field;
   bool fits = ws.m_tree_identity == &tree && ws.m_nodes == tree.num_nodes() &&
               frames.pointshell.matrix().allFinite() && frames.field.matrix().allFinite() &&
               frames.grasp_point.allFinite();
@@ -266,10 +267,12 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
         double d;
         Eigen::Vector3d field_gradient;  // set with d when the exact gradient is wanted
         if (first_instance) {
-          // The gradient with every value costs less than a second lookup for the points in
-          // contact once more than a few percent of them are (bench_contact_query).
-          d = exact_gradient ? field.distance_and_gradient(field_point, field_gradient)
-                             : field.distance(field_point);
+          // A grid's gradient with every value costs less than a second lookup for the points
+          // in contact once more than a few percent of them are; a deformed field's gradient
+          // costs as much as its value (bench_contact_query).
+          d = exact_gradient && gradient_with_value
+                  ? field.distance_and_gradient(field_point, field_gradient)
+                  : field.distance(field_point);
           point_distance[s] = d;
         } else {
           d = point_distance[s];
@@ -289,6 +292,9 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
         const Eigen::Vector3d normal_body = points.normal(s);
         const Eigen::Vector3d normal = rotation_p * normal_body;
         const Eigen::Vector3d x = rotation_p * p + translation_p;
+        if (exact_gradient && !gradient_with_value) {
+          field.distance_and_gradient(field_point, field_gradient);
+        }
         const Eigen::Vector3d gradient =
             exact_gradient ? Eigen::Vector3d(rotation_f * field_gradient) : normal;
         sums.add(x - frames.grasp_point, d, normal, gradient, weight * stiffness);
