@@ -767,7 +767,7 @@ TEST(DeformedDistanceField, UpdateRefusesBadCoordinatesAndKeepsTheState) {
   const auto refused = [&](const Eigen::VectorXd& q) {
     const bool accepted = state.update(q);
     return !accepted && state.distance(x) == before && state.position(3) == position &&
-           state.inverse_gradient(3) == inverse;
+           state.inverse_gradient(3) == inverse && state.coordinates()[0] == 0.5;
   };
   EXPECT_TRUE(refused(Eigen::VectorXd::Constant(2, 0.1)));  // wrong size
   EXPECT_TRUE(refused(Eigen::VectorXd()));
@@ -779,6 +779,35 @@ TEST(DeformedDistanceField, UpdateRefusesBadCoordinatesAndKeepsTheState) {
   EXPECT_TRUE(refused(Eigen::VectorXd::Constant(1, 1e200)));       // det overflows
   EXPECT_TRUE(state.update(Eigen::VectorXd::Constant(1, 0.895)));  // det 1.16e-3
   EXPECT_NE(state.distance(x), before);
+}
+
+TEST(DeformedDistanceField, DisplacementBoundCoversEverySurfacePoint) {
+  // Temporal coherence relies on it: no surface point moves more than bound · ‖Δq‖.
+  const Beam& s = beam();
+  const double bound = s.field.displacement_bound();
+  double largest_block = 0.0;
+  for (Eigen::Index v = 0; 3 * v < s.basis.rows(); ++v) {
+    largest_block = std::max(largest_block, s.basis.middleRows(3 * v, 3).norm());
+  }
+  EXPECT_EQ(bound, largest_block);
+  std::mt19937 random(4);
+  std::normal_distribution<double> gauss;
+  double tightest = 0.0;  // largest ratio of a surface point's motion to bound · ‖Δq‖
+  for (int trial = 0; trial < 20; ++trial) {
+    Eigen::VectorXd dq(s.basis.cols());
+    for (Eigen::Index j = 0; j < dq.size(); ++j) dq[j] = gauss(random);
+    const Eigen::VectorXd u = s.basis * dq;
+    for (const reduced::EmbeddedPoint& point : s.surface_points) {
+      tightest = std::max(tightest, s.embedding.interpolate(point, u).norm() / (bound * dq.norm()));
+    }
+  }
+  EXPECT_LE(tightest, 1.0);
+  EXPECT_GT(tightest, 0.2);  // and not vacuously loose
+  DeformedFieldState state(s.field);
+  EXPECT_EQ(state.coordinates(), Eigen::VectorXd::Zero(s.basis.cols()));
+  ASSERT_TRUE(state.update(0.01 * s.mixed_direction()));
+  EXPECT_EQ(state.coordinates(), 0.01 * s.mixed_direction());
+  EXPECT_EQ(state.displacement_bound(), bound);
 }
 
 TEST(DeformedDistanceField, RejectsBadInput) {

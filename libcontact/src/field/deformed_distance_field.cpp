@@ -279,6 +279,9 @@ void DeformedDistanceField::initialize(const std::vector<PointMatrix>& proxies,
                                        const Eigen::MatrixXd& basis,
                                        const ProgressCallback& progress) {
   m_dimension = basis.cols();
+  for (Eigen::Index v = 0; 3 * v < basis.rows(); ++v) {
+    m_displacement_bound = std::max(m_displacement_bound, basis.middleRows(3 * v, 3).norm());
+  }
   Eigen::Index count = 0;
   for (const PointMatrix& points : proxies) {
     count += points.rows();
@@ -343,7 +346,8 @@ DeformedFieldState::DeformedFieldState(const DeformedDistanceField& field)
       m_inverse(Eigen::VectorXd::Zero(9 * m_count)),
       m_next_positions(3 * m_count),
       m_next_inverse(9 * m_count),
-      m_gradient(9 * m_count) {
+      m_gradient(9 * m_count),
+      m_q(Eigen::VectorXd::Zero(field.dimension())) {
   for (int a = 0; a < 3; ++a) m_inverse.segment(4 * a * m_count, m_count).setOnes();
 }
 
@@ -383,6 +387,7 @@ bool DeformedFieldState::update(const Eigen::Ref<const Eigen::VectorXd>& q) noex
   if (valid == 0 || !m_next_positions.allFinite() || !m_next_inverse.allFinite()) return false;
   m_positions.swap(m_next_positions);
   m_inverse.swap(m_next_inverse);
+  m_q = q;
   return true;
 }
 

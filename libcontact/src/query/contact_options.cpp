@@ -38,6 +38,8 @@ void ContactOptions::validate() const {
           "finite and ≥ 0 (rad)");
   require(finite_non_negative(c.max_deformation), "coherence.max_deformation", c.max_deformation,
           "finite and ≥ 0 (m)");
+  require(finite_non_negative(c.max_field_deformation), "coherence.max_field_deformation",
+          c.max_field_deformation, "finite and ≥ 0 (m)");
   require(c.max_skip >= 1 && c.max_skip <= (1 << 20), "coherence.max_skip", c.max_skip,
           "in [1, 2^20]");
 }

@@ -67,6 +67,7 @@ ContactWorkspace::ContactWorkspace(const PointTree& tree, const ContactOptions& 
   m_skip_until.assign(static_cast<std::size_t>(m_nodes), 0);
   m_abs_q = Eigen::VectorXd::Zero(pointshell_dimension);
   m_previous_q = Eigen::VectorXd::Zero(pointshell_dimension);
+  m_previous_field_q = Eigen::VectorXd::Zero(field_dimension);
   m_contact_reduced_force = Eigen::VectorXd::Zero(pointshell_dimension);
   m_result.pointshell_reduced_force = Eigen::VectorXd::Zero(pointshell_dimension);
   m_result.field_reduced_force = Eigen::VectorXd::Zero(field_dimension);
@@ -111,8 +112,8 @@ void ContactWorkspace::reset() noexcept {
 }
 
 bool ContactWorkspace::begin_coherence(const Eigen::Matrix3d& rotation,
-                                       const Eigen::Vector3d& translation,
-                                       const double* q) noexcept {
+                                       const Eigen::Vector3d& translation, const double* q,
+                                       const double* field_q, double field_bound) noexcept {
   const CoherenceOptions& bounds = m_options.coherence;
   const auto max_skip = static_cast<std::uint32_t>(bounds.max_skip);
   // Skips are at most max_skip + 1 queries ahead; near the counter's end, start over.
@@ -135,8 +136,15 @@ bool ContactWorkspace::begin_coherence(const Eigen::Matrix3d& rotation,
           m_modes_norm *
           (Eigen::Map<const Eigen::VectorXd>(q, m_pointshell_dimension) - m_previous_q).norm();
     }
+    double field_deformed = 0.0;
+    if (field_q != nullptr) {
+      field_deformed =
+          field_bound *
+          (Eigen::Map<const Eigen::VectorXd>(field_q, m_field_dimension) - m_previous_field_q)
+              .norm();
+    }
     if (!(moved <= bounds.max_translation && turned <= bounds.max_rotation &&
-          deformed <= bounds.max_deformation)) {
+          deformed <= bounds.max_deformation && field_deformed <= bounds.max_field_deformation)) {
       // Every skip ends by m_cycle + max_skip: jumping past that drops them all in O(1).
       m_cycle += max_skip + 1;
       dropped = true;
@@ -153,8 +161,11 @@ bool ContactWorkspace::begin_coherence(const Eigen::Matrix3d& rotation,
     m_previous_q = current;
     reach += m_modes_norm * current.norm();
   }
-  m_motion_per_query =
-      bounds.max_translation + bounds.max_deformation + bounds.max_rotation * reach;
+  if (field_q != nullptr) {
+    m_previous_field_q = Eigen::Map<const Eigen::VectorXd>(field_q, m_field_dimension);
+  }
+  m_motion_per_query = bounds.max_translation + bounds.max_deformation +
+                       bounds.max_field_deformation + bounds.max_rotation * reach;
   return dropped;
 }
 

@@ -118,6 +118,11 @@ class KHZ_CONTACT_API DeformedDistanceField {
   /// F_ij (per unit q), 0 ≤ j < dimension().
   Eigen::Matrix3d gradient_mode(Eigen::Index i, Eigen::Index j) const noexcept;
 
+  /// max_v ‖U_v‖_F over the vertices v of the volume mesh (m per unit q): no point of the
+  /// object, its surface included (FEM interpolation stays within its element's vertex
+  /// displacements), moves more than this times ‖Δq‖ when q changes by Δq. Temporal coherence
+  /// uses it to bound how fast the distance to the deformed surface can change (§3.10.2).
+  double displacement_bound() const noexcept { return m_displacement_bound; }
   /// The layout described above, for DeformedFieldState.
   const Eigen::VectorXd& rest_positions() const noexcept { return m_rest; }
   const Eigen::MatrixXd& displacement_matrix() const noexcept { return m_displacement; }
@@ -134,6 +139,7 @@ class KHZ_CONTACT_API DeformedDistanceField {
   Eigen::VectorXd m_rest;          // 3N: x, y, z blocks
   Eigen::MatrixXd m_displacement;  // 3N × r, same rows
   Eigen::MatrixXd m_gradient;      // 9N × r, rows (3a + b)·N + i
+  double m_displacement_bound = 0.0;
 };
 
 /// The per-cycle state of a DeformedDistanceField at reduced coordinates q, owned by the caller
@@ -179,6 +185,11 @@ class KHZ_CONTACT_API DeformedFieldState {
   /// r: the size update() expects and add_reduced_force() adds to.
   Eigen::Index dimension() const noexcept { return m_field->dimension(); }
 
+  /// field().displacement_bound(): with coordinates(), what lets temporal coherence bound how
+  /// fast the deformed surface moves (BoundedDeformableDistanceField).
+  double displacement_bound() const noexcept { return m_field->displacement_bound(); }
+  /// The reduced coordinates of the last successful update() (zero before the first).
+  const Eigen::VectorXd& coordinates() const noexcept { return m_q; }
   /// Deforms the proxies to reduced coordinates q (r entries): ~12 N r flops and N 3×3
   /// inversions. Returns false and keeps the previous state if q does not have r entries, has
   /// a non-finite entry, or gives some proxy det F_i ≤ min_determinant (or a non-finite
@@ -222,8 +233,9 @@ class KHZ_CONTACT_API DeformedFieldState {
   Eigen::VectorXd m_next_positions;
   Eigen::VectorXd m_next_inverse;
   Eigen::VectorXd m_gradient;  // 9N: F_i − I of the q being tried
+  Eigen::VectorXd m_q;         // r: the current q
 };
 
-static_assert(DeformableDistanceField<DeformedFieldState>);
+static_assert(BoundedDeformableDistanceField<DeformedFieldState>);
 
 }  // namespace khz::contact

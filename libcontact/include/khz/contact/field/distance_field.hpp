@@ -38,4 +38,17 @@ concept DeformableDistanceField = DistanceField<Field> &&
   field.add_reduced_force(x, x, reduced);
 };
 
+/// A DeformableDistanceField that also tells how far its surface can have moved, so temporal
+/// coherence can cover it (§3.10.2):
+/// - coordinates(): its current reduced coordinates q (r entries);
+/// - displacement_bound(): m per unit q, no surface point moves more than this times ‖Δq‖.
+template <typename Field>
+concept BoundedDeformableDistanceField = DeformableDistanceField<Field> &&
+    requires(const Field& field) {
+  { field.coordinates() }
+  noexcept->std::convertible_to<const Eigen::VectorXd&>;
+  { field.displacement_bound() }
+  noexcept->std::convertible_to<double>;
+};
+
 }  // namespace khz::contact

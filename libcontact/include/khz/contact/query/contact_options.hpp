@@ -55,16 +55,20 @@ struct KHZ_CONTACT_API DegradationOptions {
 
 /// Temporal coherence (§3.10.2): a node whose bounding sphere was a gap g away from contact is
 /// not visited again until motion could have closed the gap. The caller declares how far, per
-/// query, the pointshell may move relative to the field object; then no point moves more than
-///   translation + rotation · ρ + deformation   (m per query)
+/// query, the pointshell may move relative to the field object and how far a deformable field
+/// object's surface may move; then no point comes closer to the surface by more than
+///   translation + rotation · ρ + deformation + field_deformation   (m per query)
 /// with ρ the farthest any point is from the pointshell's reference point (the centre of its
 /// rest bounding box; for a deformable pointshell plus max_s ‖U_s‖·‖q‖). Each query measures the
-/// motion that actually happened since the previous one (the relative pose, and for a
-/// deformable pointshell max_s ‖U_s‖·‖Δq‖); if it exceeds a declared bound, every cached skip is
-/// dropped before the traversal (ContactStatistics::coherence_reset), so a skipped node is never
-/// in contact — given a field that changes no faster than the distance moved, as a distance
-/// function does and the culling test itself assumes. Not used against a deformable distance
-/// field (its values change with the field's own deformation, which no bound here covers).
+/// motion that actually happened since the previous one (the relative pose; a deformable
+/// pointshell's max_s ‖U_s‖·‖Δq‖; a deformed field's displacement_bound()·‖Δq‖); if it exceeds a
+/// declared bound, every cached skip is dropped before the traversal
+/// (ContactStatistics::coherence_reset). So a skipped node is never in contact — given a field
+/// that changes no faster than the distance moved, as a distance function does and the culling
+/// test itself assumes. For a deformed distance field (§3.12) that holds for the distance to the
+/// deformed surface, which the field approximates: its proxy blend can change faster where the
+/// set of nearest proxies shifts, so there a skipped node may rarely touch the approximation
+/// (bench_contact_query counts how often the forces differ).
 struct KHZ_CONTACT_API CoherenceOptions {
   bool enabled = false;
   /// Largest motion (m) per query of the pointshell's reference point in the field's frame.
@@ -73,6 +77,10 @@ struct KHZ_CONTACT_API CoherenceOptions {
   double max_rotation = 0.0;
   /// Largest deformation displacement (m) per query of any pointshell point (0 for rigid ones).
   double max_deformation = 0.0;
+  /// Largest displacement (m) per query of a deformable field object's surface (0 for rigid
+  /// ones). Against a deformable field without BoundedDeformableDistanceField's bound, the
+  /// query does not skip.
+  double max_field_deformation = 0.0;
   /// Largest number of queries a node is skipped for, ≥ 1 (then it is looked at again).
   int max_skip = 4096;
 };

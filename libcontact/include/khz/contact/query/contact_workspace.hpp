@@ -66,8 +66,10 @@ class KHZ_CONTACT_API ContactWorkspace {
   /// the previous query (pointshell body → field body: `rotation`, `translation`; q of a
   /// deformable pointshell or nullptr) and drops every skip if it exceeds the declared bounds.
   /// Returns whether it dropped them.
+  /// `field_q` and `field_bound`: a deformable field object's q and displacement bound (m per
+  /// unit q), or nullptr and 0.
   bool begin_coherence(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation,
-                       const double* q) noexcept;
+                       const double* q, const double* field_q, double field_bound) noexcept;
   /// The query after which a node culled with gap `gap` (m, > 0) must be looked at again.
   std::uint32_t coherent_skip_until(double gap) const noexcept;
   /// time_budget mode: the cost per unit (s) to plan with, `elapsed` (s) into a query that has
@@ -98,6 +100,7 @@ class KHZ_CONTACT_API ContactWorkspace {
   Eigen::Matrix3d m_previous_rotation;   // pointshell body → field body
   Eigen::Vector3d m_previous_reference;  // reference point in the field frame
   Eigen::VectorXd m_previous_q;
+  Eigen::VectorXd m_previous_field_q;
   Eigen::Vector3d m_reference_point;  // pointshell body frame: rest bounding-box centre
   double m_rest_reach = 0.0;          // max_s ‖P_s − reference point‖ (m)
   double m_modes_norm = 0.0;          // max_s ‖U_s‖_F (deformable pointshells)

@@ -202,11 +202,19 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
   ContactResult& result = ws.m_result;
   ContactStatistics& stats = result.statistics;
   stats = ContactStatistics{};
-  const bool coherent = options.coherence.enabled && !deformable_field;
+  // Against a deformable field only when it bounds its own motion.
+  const bool coherent =
+      options.coherence.enabled && (!deformable_field || BoundedDeformableDistanceField<Field>);
   if (coherent) {
     const double* q = nullptr;
     if constexpr (Points::deformable) q = points.q_data();
-    stats.coherence_reset = ws.begin_coherence(rotation, translation, q);
+    const double* field_q = nullptr;
+    double field_bound = 0.0;
+    if constexpr (BoundedDeformableDistanceField<Field>) {
+      field_q = field.coordinates().data();
+      field_bound = field.displacement_bound();
+    }
+    stats.coherence_reset = ws.begin_coherence(rotation, translation, q, field_q, field_bound);
   }
   ContactSums sums;
   ws.m_contact_reduced_force.setZero();
