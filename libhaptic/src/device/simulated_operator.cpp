@@ -1,5 +1,7 @@
 #include <khz/haptic/device/simulated_operator.hpp>
 
+#include <khz/haptic/coupling/rotation_vector.hpp>
+
 #include "device/pose_math.hpp"
 
 #include <cmath>
@@ -131,7 +133,7 @@ void SimulatedOperator::step() noexcept {
   const Pose target = m_target(m_time);
   const Eigen::Vector3d target_velocity = (target.position - m_previous_target.position) / h;
   const Eigen::Vector3d target_angular_velocity =
-      detail::rotation_vector(target.orientation * m_previous_target.orientation.conjugate()) / h;
+      rotation_vector(target.orientation * m_previous_target.orientation.conjugate()) / h;
   m_previous_target = target;
 
   const Eigen::Vector3d force = hand.stiffness * (target.position - m_pose.position) +
@@ -139,7 +141,7 @@ void SimulatedOperator::step() noexcept {
                                 device.damping * m_linear_velocity + m_applied.force;
   const Eigen::Vector3d torque =
       hand.rotational_stiffness *
-          detail::rotation_vector(target.orientation * m_pose.orientation.conjugate()) +
+          rotation_vector(target.orientation * m_pose.orientation.conjugate()) +
       hand.rotational_damping * (target_angular_velocity - m_angular_velocity) -
       device.rotational_damping * m_angular_velocity + m_applied.torque;
 
@@ -147,8 +149,7 @@ void SimulatedOperator::step() noexcept {
   m_pose.position += h * m_linear_velocity;
   m_angular_velocity += (h / (device.inertia + hand.inertia)) * torque;
   m_pose.orientation =
-      (detail::quaternion_from_rotation_vector(h * m_angular_velocity) * m_pose.orientation)
-          .normalized();
+      (rotation_quaternion(h * m_angular_velocity) * m_pose.orientation).normalized();
   ++m_steps;
   m_time = double(m_steps) * h;  // no drift from repeated addition
 }
@@ -211,7 +212,7 @@ double SimulatedOperator::kinetic_energy() const noexcept {
 double SimulatedOperator::hand_energy() const {
   const Pose target = m_target(m_time);
   const Eigen::Vector3d angle =
-      detail::rotation_vector(target.orientation * m_pose.orientation.conjugate());
+      rotation_vector(target.orientation * m_pose.orientation.conjugate());
   return 0.5 * m_options.hand.stiffness * (target.position - m_pose.position).squaredNorm() +
          0.5 * m_options.hand.rotational_stiffness * angle.squaredNorm();
 }

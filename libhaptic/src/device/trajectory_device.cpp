@@ -1,6 +1,8 @@
 #include <khz/haptic/device/null_device.hpp>
 #include <khz/haptic/device/trajectory_device.hpp>
 
+#include <khz/haptic/coupling/rotation_vector.hpp>
+
 #include "device/pose_math.hpp"
 
 #include <algorithm>
@@ -16,7 +18,7 @@ void fill_segment_velocity(const TrajectorySample& a, const TrajectorySample& b,
   const double dt = b.time - a.time;
   state.linear_velocity = (b.pose.position - a.pose.position) / dt;
   state.angular_velocity =
-      detail::rotation_vector(b.pose.orientation * a.pose.orientation.conjugate()) / dt;
+      rotation_vector(b.pose.orientation * a.pose.orientation.conjugate()) / dt;
 }
 
 }  // namespace
