@@ -1,5 +1,6 @@
+#include "hard_case_fixtures.hpp"
+
 #include <khz/contact/field/implicit_shapes.hpp>
-#include <khz/contact/pointshell/nested_levels.hpp>
 #include <khz/haptic/cycle/contact_scene.hpp>
 #include <khz/haptic/cycle/haptic_cycle.hpp>
 #include <khz/haptic/device/simulated_operator.hpp>
@@ -7,7 +8,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 
 namespace khz::haptic {
 namespace {
@@ -16,25 +16,8 @@ constexpr double ball_radius = 0.05;  // m
 
 /// A 5 cm ball sampled by 5,440 near-uniform points in 4 levels, inward normals.
 const contact::PointTree& ball() {
-  static const contact::PointTree tree = [] {
-    const Eigen::Index count = 85 * 64;
-    contact::Pointshell shell;
-    shell.points.resize(count, 3);
-    shell.normals.resize(count, 3);
-    const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
-    for (Eigen::Index i = 0; i < count; ++i) {
-      const double z = 1.0 - (2.0 * static_cast<double>(i) + 1.0) / static_cast<double>(count);
-      const double ring = std::sqrt(1.0 - z * z);
-      const Eigen::Vector3d u(ring * std::cos(golden * static_cast<double>(i)),
-                              ring * std::sin(golden * static_cast<double>(i)), z);
-      shell.points.row(i) = ball_radius * u.transpose();
-      shell.normals.row(i) = -u.transpose();
-    }
-    shell.level_ends = {count};
-    contact::NestedLevelOptions options;
-    options.schedule = contact::LevelSchedule::quadrupling(85);
-    return contact::PointTree(contact::nested_pointshell(shell, options));
-  }();
+  static const contact::PointTree tree =
+      hard_cases::nested_tree(hard_cases::sphere_pointshell(ball_radius, 85 * 64), 85);
   return tree;
 }
 
