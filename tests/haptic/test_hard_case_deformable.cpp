@@ -3,7 +3,9 @@
 // reduced model.
 #include "hard_case_fixtures.hpp"
 
+#include <khz/contact/field/deformed_distance_field.hpp>
 #include <khz/contact/field/implicit_shapes.hpp>
+#include <khz/contact/field/mesh_distance_field.hpp>
 #include <khz/contact/pointshell/pointshell_sampling.hpp>
 #include <khz/contact/tree/deformable_point_tree.hpp>
 #include <khz/reduced/basis/modal_derivative_basis.hpp>
@@ -14,6 +16,8 @@
 #include <khz/test/generated_meshes.hpp>
 
 #include <gtest/gtest.h>
+
+#include <numbers>
 
 namespace khz::haptic::hard_cases {
 namespace {
@@ -50,11 +54,14 @@ struct DeformableBeam {
     options.newmark.stiffness_damping = 2e-4;
     return options;
   }
+  /// The beam's rest surface.
+  static reduced::TriangleMesh surface() {
+    reduced::TriangleMesh mesh = test::unit_cube_surface();
+    mesh.vertices = mesh.vertices * Eigen::Vector3d(beam_length, beam_side, beam_side).asDiagonal();
+    return mesh;
+  }
   static contact::PointTree surface_tree() {
-    reduced::TriangleMesh surface = test::unit_cube_surface();
-    surface.vertices =
-        surface.vertices * Eigen::Vector3d(beam_length, beam_side, beam_side).asDiagonal();
-    return nested_tree(contact::random_pointshell(surface, 2000, 8), 8);
+    return nested_tree(contact::random_pointshell(surface(), 2000, 8), 8);
   }
   double energy() const { return integrator.kinetic_energy() + integrator.strain_energy(); }
 };
@@ -132,6 +139,68 @@ TEST(HardCases, DeformablePointshellPushedHardAndReleased) {
   EXPECT_LT(b.integrator.coordinates().norm(), 0.1 * q_held.norm());
   // The hand, lifted away, comes to rest too.
   EXPECT_LT(trace.back().device_energy, 1e-6);
+}
+
+TEST(HardCases, DeformableToolAgainstDeformableBeam) {
+  // Deformable against deformable (§3.12): the hand holds a second beam by its clamped end,
+  // pointing down, as the distance-field object (its deformed field from 40 proxies on a 48³
+  // rest field), and presses its tip onto the first beam near its tip, then lifts it away. The
+  // contact force goes, with opposite signs, into both reduced models.
+  DeformableBeam beam, tool;
+  contact::DistanceFieldOptions grid;
+  grid.cells = 48;
+  const contact::DeformedDistanceField tool_field(
+      {contact::signed_distance_field(DeformableBeam::surface(), grid)},
+      reduced::MeshEmbedding(tool.beam.model.mesh()), tool.model.basis().vectors);
+  contact::DeformedFieldState tool_state(tool_field);
+  PointshellFieldScene scene(beam.tree, tool_state,
+                             contact_options(contact::HapticObject::distance_field),
+                             Eigen::Vector3d(0.0, beam_side / 2, beam_side / 2),
+                             Eigen::Isometry3d::Identity(), &beam.integrator, &tool.integrator);
+  // Tool axis x turned onto world −z; its tip starts 1 cm above the beam at x = 17 cm.
+  const Eigen::Quaterniond down(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitY()));
+  const Eigen::Vector3d above(0.17, beam_side / 2, beam_side + beam_length + 0.01);
+  const TargetFunction target =
+      keyframe_target({{0.0, at(above, down)},
+                       {0.3, at(above - Eigen::Vector3d(0, 0, 0.03), down)},
+                       {0.6, at(above - Eigen::Vector3d(0, 0, 0.03), down)},
+                       {0.62, at(above + Eigen::Vector3d(0, 0, 0.1), down)}});
+  const auto penetration = [&](const Pose& grasp) {
+    const Eigen::Isometry3d body =
+        held_body(grasp, Eigen::Vector3d(0.0, beam_side / 2, beam_side / 2));
+    double deepest = 0.0;
+    for (Eigen::Index s = 0; s < beam.tree.tree().num_points(); ++s) {
+      const Eigen::Vector3d p = beam.tree.position(s, beam.integrator.coordinates());
+      deepest = std::max(deepest, -tool_state.distance(body.inverse() * p));
+    }
+    return deepest;
+  };
+  Harness harness(target, scene, coupling_options(beam_length), penetration);
+  harness.run(600);
+  const std::vector<Sample>& pushed = harness.trace();
+  EXPECT_GT(largest(pushed, 0, pushed.size(),
+                    [](const Sample& s) { return s.record.contact_statistics.points_in_contact; }),
+            0.0);
+  // Both objects took their share: each was bent (or compressed) by the contact, and the tool's
+  // field follows its integrator.
+  const double beam_energy = beam.energy(), tool_energy = tool.energy();
+  EXPECT_GT(beam_energy, 1e-6);
+  EXPECT_GT(tool_energy, 0.0);
+  EXPECT_EQ(tool_state.coordinates(), tool.integrator.coordinates());
+  harness.run(1500);
+  const std::vector<Sample>& trace = harness.trace();
+  ASSERT_EQ(first_non_finite(trace), trace.size());
+  for (const Sample& s : trace) {
+    ASSERT_TRUE(s.record.integrators_ok && s.record.contact_valid && s.record.coupling_valid);
+  }
+  EXPECT_LE(largest(trace, 0, trace.size(), [](const Sample& s) { return s.penetration; }), voxel);
+  // Released, both come to rest.
+  EXPECT_LT(beam.energy(), 0.01 * beam_energy);
+  EXPECT_LT(tool.energy(), 0.01 * std::max(tool_energy, 1e-12) + 1e-12);
+  std::printf(
+      "tool on beam: beam energy %.3e J, tool energy %.3e J while pressed; %.3e and "
+      "%.3e J at the end\n",
+      beam_energy, tool_energy, beam.energy(), tool.energy());
 }
 
 }  // namespace
