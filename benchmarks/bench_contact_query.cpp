@@ -33,11 +33,8 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <memory>
@@ -164,17 +161,6 @@ double modes_norm(const kc::DeformablePointTree& tree) {
   return largest;
 }
 
-/// The vertices of the lowest 8% in y: the anchors of B's and E's reduced models.
-std::vector<int> lowest_vertices(const kr::VolumeMesh& volume) {
-  const double low = volume.vertices.col(1).minCoeff();
-  const double high = volume.vertices.col(1).maxCoeff();
-  std::vector<int> anchors;
-  for (Eigen::Index v = 0; v < volume.num_vertices(); ++v) {
-    if (volume.vertices(v, 1) < low + 0.08 * (high - low)) anchors.push_back(static_cast<int>(v));
-  }
-  return anchors;
-}
-
 /// q(t) of a scripted deformation: each coordinate a sine of 1–3 periods over the trajectory.
 Eigen::VectorXd scripted_q(Eigen::Index r, double t) {
   Eigen::VectorXd q(r);
@@ -201,11 +187,8 @@ double scripted_amplitude(const kr::Basis& basis, double size) {
 const Scene<kc::DeformablePointTree, kc::DistanceGrid>& scene_b() {
   static const auto scene = [] {
     const kc::TriangleMesh dragon = khz::bench::demo_mesh("ChineseDragon-10kv.off", 0.5);
-    kr::VoxelizeOptions voxels;
-    voxels.resolution = 32;
-    voxels.fill_interior = true;
-    const kr::VolumeMesh volume = kr::voxelize(dragon, voxels);
-    const std::vector<int> anchors = lowest_vertices(volume);
+    const kr::VolumeMesh volume = khz::bench::voxel_volume(dragon);
+    const std::vector<int> anchors = khz::bench::lowest_vertices(volume);
     const kr::Basis basis = khz::bench::cached_basis("dragon_voxel32", volume, anchors, 15);
     static const kc::DeformablePointTree tree = khz::bench::cached_deformable_tree(
         "dragon_262229_L5_voxel32_r15",
@@ -243,14 +226,9 @@ const Scene<kc::DeformablePointTree, kc::DistanceGrid>& scene_b() {
 const Scene<kc::DeformablePointTree, kc::DeformedFieldState>& scene_e() {
   static const auto scene = [] {
     const auto& b = scene_b();
-    const kr::VolumeMesh volume = [] {
-      kr::VoxelizeOptions voxels;
-      voxels.resolution = 32;
-      voxels.fill_interior = true;
-      return kr::voxelize(khz::bench::demo_mesh("dino.off", 1.0), voxels);
-    }();
+    const kr::VolumeMesh volume = khz::bench::voxel_volume(khz::bench::demo_mesh("dino.off", 1.0));
     const kr::Basis basis =
-        khz::bench::cached_basis("dino_voxel32", volume, lowest_vertices(volume), 15);
+        khz::bench::cached_basis("dino_voxel32", volume, khz::bench::lowest_vertices(volume), 15);
     const Clock::time_point start = Clock::now();
     static const kc::DeformedDistanceField deformed({dino_field()}, kr::MeshEmbedding(volume),
                                                     basis.vectors);
@@ -381,16 +359,6 @@ std::vector<RunSummary>& summaries() {
   return all;
 }
 
-/// Per-query rows of a run, to plot time against nodes: <build>/benchmarks/contact_query_runs/.
-void write_csv(const std::string& run, const std::string& text) {
-  std::string name;
-  for (const char c : run) name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-  const std::filesystem::path dir =
-      std::filesystem::path(KHZ_CONTACT_CACHE_DIR).parent_path() / "contact_query_runs";
-  std::filesystem::create_directories(dir);
-  std::ofstream(dir / (name + ".csv")) << text;
-}
-
 /// Plays the scene's trajectory three times with `options` (reset() before each pass, the first
 /// pass not measured), one query per pose.
 template <typename Tree, kc::DistanceField Field>
@@ -432,7 +400,8 @@ RunSummary run_scene(const Scene<Tree, Field>& scene, const kc::ContactOptions& 
       if (stats.points_in_contact > 0) summary.contact_share += 1.0;
     }
   }
-  write_csv(scene.name + ", " + variant, csv);
+  // Per-query rows, to plot time against nodes.
+  khz::bench::write_run_csv("contact_query_runs", scene.name + ", " + variant, csv);
   const kc::PointTree& tree = scene.point_tree();
   summary.scene = scene.name;
   summary.variant = variant;

@@ -27,10 +27,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -232,6 +234,26 @@ inline kc::Pointshell cached_pointshell(const std::string& name, const kc::Trian
       [](const std::filesystem::path& p, const kc::Pointshell& s) { kc::write_pointshell(p, s); });
 }
 
+/// The voxel mesh (`resolution` cells along the longest side, interior filled) a deformable
+/// scene's reduced model lives on.
+inline kr::VolumeMesh voxel_volume(const kc::TriangleMesh& mesh, int resolution = 32) {
+  kr::VoxelizeOptions voxels;
+  voxels.resolution = resolution;
+  voxels.fill_interior = true;
+  return kr::voxelize(mesh, voxels);
+}
+
+/// The vertices of the lowest 8% in y: the anchors of the deformable scenes' reduced models.
+inline std::vector<int> lowest_vertices(const kr::VolumeMesh& volume) {
+  const double low = volume.vertices.col(1).minCoeff();
+  const double high = volume.vertices.col(1).maxCoeff();
+  std::vector<int> anchors;
+  for (Eigen::Index v = 0; v < volume.num_vertices(); ++v) {
+    if (volume.vertices(v, 1) < low + 0.08 * (high - low)) anchors.push_back(static_cast<int>(v));
+  }
+  return anchors;
+}
+
 /// A modal-derivative basis (§2.8.3) of `r` vectors from r/3 + 1 linear modes.
 inline kr::Basis cached_basis(const std::string& name, const kr::VolumeMesh& volume,
                               const std::vector<int>& anchors, int r) {
@@ -267,6 +289,17 @@ kc::DeformablePointTree cached_deformable_tree(const std::string& name, ShellSou
       [](const std::filesystem::path& p, const kc::DeformablePointTree& t) {
         kc::write_deformable_point_tree(p, t);
       });
+}
+
+/// Writes a run's rows to <build>/benchmarks/<folder>/<run>.csv (run's non-alphanumerics as _).
+inline void write_run_csv(const std::string& folder, const std::string& run,
+                          const std::string& text) {
+  std::string name;
+  for (const char c : run) name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  const std::filesystem::path dir =
+      std::filesystem::path(KHZ_CONTACT_CACHE_DIR).parent_path() / folder;
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / (name + ".csv")) << text;
 }
 
 // ---------------------------------------------------------------------------------------------

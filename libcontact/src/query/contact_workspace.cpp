@@ -16,9 +16,13 @@ constexpr double initial_seconds_per_unit = 100e-9;
 /// Queries with fewer cost units than this do not update the measured cost per unit: fixed
 /// costs would dominate it.
 constexpr double min_measured_units = 64.0;
-/// A measured cost per unit below the current one moves it by this fraction per query (a slower
-/// one replaces it at once), so a budget holds at the 99th percentile.
-constexpr double cost_decay = 1.0 / 64.0;
+/// A measured cost per unit below the current one moves it by this fraction per query; a slower
+/// one replaces it at once, up to max_cost_jump times the current one per query, so a budget holds
+/// at the 99th percentile while a query the OS preempted (milliseconds of wall time, not a slower
+/// traversal) doubles the estimate once rather than degrading hundreds of queries
+/// (bench_haptic_loop saw 500 degraded queries after one 2.5 ms stall without the cap).
+constexpr double cost_decay = 1.0 / 32.0;
+constexpr double max_cost_jump = 2.0;
 
 Eigen::Index widest_level(const PointTree& tree) {
   Eigen::Index widest = 0;
@@ -187,7 +191,7 @@ void ContactWorkspace::end_degradation(int deepest_level, double seconds,
   if (cost_units < min_measured_units) return;
   const double measured = seconds / cost_units;
   m_seconds_per_unit = measured >= m_seconds_per_unit
-                           ? measured
+                           ? std::min(measured, max_cost_jump * m_seconds_per_unit)
                            : m_seconds_per_unit + cost_decay * (measured - m_seconds_per_unit);
 }
 

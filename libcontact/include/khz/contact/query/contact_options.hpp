@@ -36,7 +36,8 @@ struct KHZ_CONTACT_API DegradationOptions {
     /// Thresholds in time: the query measures its cost per unit as it runs (steady clock, a
     /// few reads per query) and renders a level only if the time spent plus the level's
     /// predicted time stays within budget_microseconds (warm) or cold_fraction of it (cold).
-    /// The cost per unit rises at once when a query is slower and falls slowly, so a budget
+    /// The cost per unit rises at once when a query is slower (at most doubling per query, so
+    /// one query the OS preempted does not degrade hundreds) and falls slowly, so a budget
     /// holds at the 99th percentile once the first queries have measured it.
     time_budget,
   };
