@@ -10,6 +10,7 @@
 #include <khz/test/allocation_probe.hpp>
 #include <khz/test/fixtures.hpp>
 #include <khz/test/generated_meshes.hpp>
+#include <khz/test/sphere_points.hpp>
 
 #include <gtest/gtest.h>
 
@@ -26,17 +27,8 @@ constexpr int r = 6;
 /// A unit sphere sampled by Fibonacci points (near-uniform), nested ×4 per level from 20.
 Pointshell fibonacci_sphere(Eigen::Index count) {
   Pointshell shell;
-  shell.points.resize(count, 3);
-  shell.normals.resize(count, 3);
-  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
-  for (Eigen::Index i = 0; i < count; ++i) {
-    const double z = 1.0 - (2.0 * static_cast<double>(i) + 1.0) / static_cast<double>(count);
-    const double ring = std::sqrt(1.0 - z * z);
-    const double angle = golden * static_cast<double>(i);
-    const Eigen::Vector3d p(ring * std::cos(angle), ring * std::sin(angle), z);
-    shell.points.row(i) = p.transpose();
-    shell.normals.row(i) = -p.transpose();
-  }
+  shell.points = test::fibonacci_sphere_points(count);
+  shell.normals = -shell.points;
   shell.level_ends = {count};
   NestedLevelOptions options;
   options.schedule = LevelSchedule::quadrupling(20);

@@ -10,6 +10,7 @@
 #include <khz/haptic/cycle/contact_scene.hpp>
 #include <khz/haptic/cycle/haptic_cycle.hpp>
 #include <khz/haptic/device/simulated_operator.hpp>
+#include <khz/test/sphere_points.hpp>
 
 #include <Eigen/Geometry>
 
@@ -96,17 +97,8 @@ inline contact::PointTree nested_tree(const contact::Pointshell& flat, Eigen::In
 /// normals, one level.
 inline contact::Pointshell sphere_pointshell(double radius, Eigen::Index count) {
   contact::Pointshell shell;
-  shell.points.resize(count, 3);
-  shell.normals.resize(count, 3);
-  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
-  for (Eigen::Index i = 0; i < count; ++i) {
-    const double z = 1.0 - (2.0 * static_cast<double>(i) + 1.0) / static_cast<double>(count);
-    const double ring = std::sqrt(1.0 - z * z);
-    const double angle = golden * static_cast<double>(i);
-    const Eigen::Vector3d u(ring * std::cos(angle), ring * std::sin(angle), z);
-    shell.points.row(i) = radius * u.transpose();
-    shell.normals.row(i) = -u.transpose();
-  }
+  shell.normals = -test::fibonacci_sphere_points(count);
+  shell.points = -radius * shell.normals;
   shell.level_ends = {count};
   return shell;
 }
