@@ -113,9 +113,21 @@ struct Beam {
       modes.col(j) /= largest_displacement(modes.col(j));
     return modes;
   }
+  /// The square beam's modes come in degenerate pairs (bending in y and z) whose orientation
+  /// within each pair follows the eigensolver's rounding, which differs between builds; so the
+  /// direction is the basis's best fit to a fixed displacement — bending along y and z and a
+  /// twist growing from the clamp — which does not depend on how a pair is turned.
   Eigen::VectorXd mixed_direction() const {
-    Eigen::VectorXd q(6);
-    q << 1.0, 0.6, -0.4, 0.3, 0.2, -0.1;
+    const reduced::VolumeMesh& mesh = cantilever.model.mesh();
+    Eigen::VectorXd target(3 * mesh.num_vertices());
+    for (Eigen::Index v = 0; v < mesh.num_vertices(); ++v) {
+      const Eigen::Vector3d x = mesh.vertices.row(v).transpose();
+      const double t = x.x() / kLength, twist = 0.3 * t;
+      const double y = x.y() - kSide / 2, z = x.z() - kSide / 2;
+      target.segment<3>(3 * v) =
+          Eigen::Vector3d(0.0, 0.8 * t * t - twist * z, 0.5 * t * t + twist * y);
+    }
+    const Eigen::VectorXd q = basis.colPivHouseholderQr().solve(target);
     return q / largest_displacement(basis * q);
   }
   static double largest_displacement(const Eigen::VectorXd& u) {
@@ -519,9 +531,27 @@ TEST(DeformedDistanceField, ContinuousAcrossNeighbourChangesAlongAPathInQ) {
   EXPECT_LT(largest_jump, 1e-12);
 }
 
+/// 40 proxies on the beam's faces in a fixed pattern: four per 10 cm of length, one at the centre
+/// of each side face. Fitted proxies land where the repulsion's rounding takes them, which
+/// differs between builds (FMA contraction); the error against the exact surface depends on
+/// where the proxies are, so the error table uses these.
+std::vector<PointMatrix> regular_beam_proxies() {
+  PointMatrix points(40, 3);
+  for (int i = 0; i < 10; ++i) {
+    const double x = (i + 0.5) * kLength / 10.0, c = kSide / 2.0;
+    points.row(4 * i) = Eigen::RowVector3d(x, 0.0, c);
+    points.row(4 * i + 1) = Eigen::RowVector3d(x, kSide, c);
+    points.row(4 * i + 2) = Eigen::RowVector3d(x, c, 0.0);
+    points.row(4 * i + 3) = Eigen::RowVector3d(x, c, kSide);
+  }
+  return {points};
+}
+
 TEST(DeformedDistanceField, ErrorAgainstTheExactDeformedSurface) {
   const Beam& s = beam();
-  DeformedFieldState state(s.field);
+  const DeformedDistanceField field({s.field.field(0)}, regular_beam_proxies(), s.embedding,
+                                    s.basis);
+  DeformedFieldState state(field);
   const double h = s.spacing();
   std::printf("amplitude (m)  mean |error| (h)  max |error| (h)  sign disagreement  (|d| > h/4)\n");
   struct Row {
@@ -566,17 +596,17 @@ TEST(DeformedDistanceField, ErrorAgainstTheExactDeformedSurface) {
   ASSERT_EQ(rows.size(), 7U);
   for (const Row& row : rows) {
     SCOPED_TRACE("amplitude " + std::to_string(row.amplitude));
-    if (row.amplitude <= 0.1) {  // small: measured ≤ 0.045 h mean, 0.46 h max
-      EXPECT_LT(row.mean, 0.055);
+    if (row.amplitude <= 0.1) {  // small: measured ≤ 0.034 h mean, 0.46 h max
+      EXPECT_LT(row.mean, 0.042);
       EXPECT_LT(row.max, 0.55);
       EXPECT_EQ(row.sign_far, 0.0);
-    } else if (row.amplitude <= 0.3) {  // moderate: measured ≤ 0.108 h mean, 0.63 h max
-      EXPECT_LT(row.mean, 0.13);
-      EXPECT_LT(row.max, 0.75);
+    } else if (row.amplitude <= 0.3) {  // moderate: measured ≤ 0.060 h mean, 0.49 h max
+      EXPECT_LT(row.mean, 0.075);
+      EXPECT_LT(row.max, 0.6);
       EXPECT_EQ(row.sign_far, 0.0);
-    } else {  // large (tip moved half the length, ~25% stretch): measured 0.18 h, 1.02 h
-      EXPECT_LT(row.mean, 0.22);
-      EXPECT_LT(row.max, 1.25);
+    } else {  // large (the tip moved half the length): measured 0.101 h mean, 0.71 h max
+      EXPECT_LT(row.mean, 0.125);
+      EXPECT_LT(row.max, 0.85);
     }
   }
 }
