@@ -152,15 +152,6 @@ const Scene<kc::PointTree, kc::DistanceGrid>& scene_a() {
   return scene;
 }
 
-/// max_s ‖U_s‖_F: how far a unit Δq can move any point.
-double modes_norm(const kc::DeformablePointTree& tree) {
-  double largest = 0.0;
-  for (Eigen::Index s = 0; s < tree.tree().num_points(); ++s) {
-    largest = std::max(largest, tree.displacement_modes(s).norm());
-  }
-  return largest;
-}
-
 /// q(t) of a scripted deformation: each coordinate a sine of 1–3 periods over the trajectory.
 Eigen::VectorXd scripted_q(Eigen::Index r, double t) {
   Eigen::VectorXd q(r);
@@ -208,7 +199,8 @@ const Scene<kc::DeformablePointTree, kc::DistanceGrid>& scene_b() {
         *s.field, h);
     khz::bench::precompute_log().push_back(
         {"B trajectory", khz::bench::seconds_since(start), false});
-    s.coherence = khz::bench::coherence_bounds(s.trajectory, tree.tree(), modes_norm(tree));
+    s.coherence =
+        khz::bench::coherence_bounds(s.trajectory, tree.tree(), tree.displacement_bound());
     std::printf("  B: %ld hexahedra, %ld anchors, r = %ld, largest displacement 40 mm\n",
                 static_cast<long>(volume.num_elements()), static_cast<long>(anchors.size()),
                 static_cast<long>(r));

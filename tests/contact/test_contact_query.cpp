@@ -522,11 +522,7 @@ TEST(ContactQuery, TemporalCoherenceFollowsADeformingPointshell) {
   Eigen::VectorXd direction(r);
   direction << 1.0, -0.5, 0.3, 0.2, -0.7, 0.4;
   const double step = 0.002;  // of q per query
-  double modes_norm = 0.0;
-  for (Eigen::Index s = 0; s < tree.tree().num_points(); ++s) {
-    modes_norm = std::max(modes_norm, tree.displacement_modes(s).norm());
-  }
-  coherent.coherence.max_deformation = modes_norm * step * direction.norm();
+  coherent.coherence.max_deformation = tree.displacement_bound() * step * direction.norm();
   ContactWorkspace b(tree, coherent);
   std::int64_t skipped = 0, contacts = 0;
   for (int i = 0; i <= 300; ++i) {

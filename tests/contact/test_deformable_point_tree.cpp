@@ -165,6 +165,29 @@ TEST(DeformablePointTree, RestShapeAndLeaves) {
   }
 }
 
+TEST(DeformablePointTree, DisplacementBoundCoversEveryPointsMotion) {
+  // From the basis itself (the embedding's interpolation of U), not from the stored U_s: no
+  // point moves more than displacement_bound() · ‖Δq‖, and some point comes close.
+  const DeformablePointTree& tree = deformable();
+  const Fixture& f = fixture();
+  std::mt19937 random(5);
+  std::normal_distribution<double> gauss;
+  double tightest = 0.0;
+  for (int trial = 0; trial < 20; ++trial) {
+    Eigen::VectorXd dq(r);
+    for (Eigen::Index j = 0; j < r; ++j) dq[j] = gauss(random);
+    const Eigen::VectorXd u = f.basis * dq;
+    for (Eigen::Index s = 0; s < tree.tree().num_points(); ++s) {
+      const Eigen::Vector3d rest = tree.tree().pointshell().points.row(s).transpose();
+      const double moved = f.embedding.interpolate(f.embedding.locate(rest), u).norm();
+      const double ratio = moved / (tree.displacement_bound() * dq.norm());
+      ASSERT_LE(ratio, 1.0 + 1e-12) << "point " << s;
+      tightest = std::max(tightest, ratio);
+    }
+  }
+  EXPECT_GT(tightest, 0.3);  // not vacuously loose
+}
+
 TEST(DeformablePointTree, QueriesAreNoexceptAndAllocateNothing) {
   const DeformablePointTree& tree = deformable();
   const Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(r, -1.0, 1.0);

@@ -46,9 +46,7 @@ ContactWorkspace::ContactWorkspace(const PointTree& tree, const ContactOptions& 
 ContactWorkspace::ContactWorkspace(const DeformablePointTree& tree, const ContactOptions& options,
                                    Eigen::Index field_dimension)
     : ContactWorkspace(tree.tree(), options, tree.dimension(), field_dimension) {
-  for (Eigen::Index s = 0; s < m_points; ++s) {
-    m_modes_norm = std::max(m_modes_norm, tree.displacement_modes(s).norm());
-  }
+  m_modes_norm = tree.displacement_bound();
 }
 
 ContactWorkspace::ContactWorkspace(const PointTree& tree, const ContactOptions& options,

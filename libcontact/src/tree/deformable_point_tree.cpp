@@ -62,6 +62,7 @@ DeformablePointTree::DeformablePointTree(PointTree tree, const reduced::MeshEmbe
   m_displacement_modes = std::move(modes.displacement);
   m_normal_modes = std::move(modes.normal);
   compute_radius_coefficients(progress);
+  compute_displacement_bound();
 }
 
 DeformablePointTree::DeformablePointTree(PointTree tree, Eigen::Index dimension,
@@ -92,6 +93,7 @@ DeformablePointTree::DeformablePointTree(PointTree tree, Eigen::Index dimension,
   check(m_displacement_modes, "displacement_modes");
   check(m_normal_modes, "normal_modes");
   compute_radius_coefficients(progress);
+  compute_displacement_bound();
 }
 
 // The BD-tree coefficients of eq. 3.12 for sphere bounds over points [James & Pai 2004, §4;
@@ -132,6 +134,13 @@ void DeformablePointTree::compute_radius_coefficients(const ProgressCallback& pr
     stage.advance(end - begin);
   }
   stage.finish();
+}
+
+void DeformablePointTree::compute_displacement_bound() noexcept {
+  m_displacement_bound = 0.0;
+  for (Eigen::Index s = 0; s < m_tree.num_points(); ++s) {
+    m_displacement_bound = std::max(m_displacement_bound, displacement_modes(s).norm());
+  }
 }
 
 double DeformablePointTree::bounding_radius(

@@ -32,8 +32,8 @@ class KHZ_CONTACT_API ContactWorkspace {
   /// @throws Error if the options fail validate() or field_dimension < 0.
   ContactWorkspace(const PointTree& tree, const ContactOptions& options,
                    Eigen::Index field_dimension = 0);
-  /// For a deformable pointshell (sizes ContactResult::pointshell_reduced_force and measures
-  /// max_s ‖U_s‖ for temporal coherence, O(#points · r)).
+  /// For a deformable pointshell (sizes ContactResult::pointshell_reduced_force; temporal
+  /// coherence uses the tree's displacement_bound()).
   ContactWorkspace(const DeformablePointTree& tree, const ContactOptions& options,
                    Eigen::Index field_dimension = 0);
 
@@ -103,7 +103,7 @@ class KHZ_CONTACT_API ContactWorkspace {
   Eigen::VectorXd m_previous_field_q;
   Eigen::Vector3d m_reference_point;  // pointshell body frame: rest bounding-box centre
   double m_rest_reach = 0.0;          // max_s ‖P_s − reference point‖ (m)
-  double m_modes_norm = 0.0;          // max_s ‖U_s‖_F (deformable pointshells)
+  double m_modes_norm = 0.0;          // DeformablePointTree::displacement_bound() (m per unit q)
   double m_motion_per_query = 0.0;    // bound on any point's motion per query (m)
 
   // Graceful degradation.

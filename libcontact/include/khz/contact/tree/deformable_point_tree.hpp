@@ -103,6 +103,9 @@ class KHZ_CONTACT_API DeformablePointTree {
     return length < min_normal_length ? Eigen::Vector3d(rest[0], rest[1], rest[2])
                                       : Eigen::Vector3d(pushed / length);
   }
+  /// max_s ‖U_s‖_F (m per unit q): no point moves more than this times ‖Δq‖ when q changes by
+  /// Δq (‖U_s Δq‖ ≤ ‖U_s‖_F ‖Δq‖). Temporal coherence bounds deformation with it (§3.10.2).
+  double displacement_bound() const noexcept { return m_displacement_bound; }
   /// R_i(q) = R_i0 + Σ_j a_ij |q_j| (eq. 3.12, m) in r flops; 0 for a leaf. Takes |q| (r
   /// entries, each ≥ 0), computed once per haptic cycle rather than once per node.
   double bounding_radius(Eigen::Index node,
@@ -110,6 +113,7 @@ class KHZ_CONTACT_API DeformablePointTree {
 
  private:
   void compute_radius_coefficients(const ProgressCallback& progress);
+  void compute_displacement_bound() noexcept;
 
   /// rest + M q for a point's row-major 3×r block M: one pass over q serves the three rows, in
   /// four independent partial sums per row (floating-point addition does not reassociate, so
@@ -144,6 +148,7 @@ class KHZ_CONTACT_API DeformablePointTree {
   std::vector<double> m_displacement_modes;   // #points × 3r
   std::vector<double> m_normal_modes;         // #points × 3r
   std::vector<double> m_radius_coefficients;  // num_internal_nodes × r
+  double m_displacement_bound = 0.0;
 };
 
 }  // namespace khz::contact
