@@ -639,6 +639,20 @@ TEST(ContactQuery, AreaWeightsScaleEachPointAndCountTowardsL) {
   EXPECT_THROW(doubled.set_area_weights(bad), Error);
 }
 
+TEST(ContactQuery, ARigidQueryOnADeformablePairsWorkspaceLeavesNoReducedForce) {
+  const DeformablePointTree& cube = fixture().cube;
+  const ImplicitShape ball = Sphere(Eigen::Vector3d::Zero(), 0.45);
+  ContactWorkspace workspace(cube, ContactOptions{});
+  ContactFrames frames;
+  frames.field = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(1.2, 0.5, 0.4));
+  ASSERT_TRUE(
+      query_contact(cube, Eigen::VectorXd(Eigen::VectorXd::Zero(r)), ball, frames, workspace));
+  ASSERT_GT(workspace.result().pointshell_reduced_force.norm(), 0.0);
+  ASSERT_TRUE(query_contact(cube.tree(), ball, frames, workspace));
+  EXPECT_GT(workspace.result().statistics.points_in_contact, 0);
+  EXPECT_EQ(workspace.result().pointshell_reduced_force, Eigen::VectorXd::Zero(r));
+}
+
 TEST(ContactQuery, RejectsBadInputWithoutThrowingAndAllocatesNothing) {
   const PointTree& sphere = fixture().sphere;
   const DeformablePointTree& cube = fixture().cube;

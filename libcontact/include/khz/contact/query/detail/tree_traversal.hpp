@@ -370,6 +370,10 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
       scale * (sums.moments.bottomRightCorner<3, 3>() + cross_matrix(sums.torque));
   if constexpr (Points::deformable) {
     result.pointshell_reduced_force = scale * ws.m_contact_reduced_force;
+  } else {
+    // A deformable pair's workspace queried with its tree as rigid: no reduced force, not the
+    // previous query's.
+    result.pointshell_reduced_force.setZero();
   }
   if constexpr (deformable_field) result.field_reduced_force *= scale;
 
