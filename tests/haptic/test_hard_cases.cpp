@@ -581,6 +581,8 @@ TEST(HapticHardCases, ANaNPoseOrADisconnectMidContactRendersZeroAtOnceAndRecover
     for (int i = 0; i < faulty; ++i) {
       const CycleRecord& r = run.step().record;
       EXPECT_FALSE(r.device_valid) << start << " + " << i;
+      EXPECT_FALSE(r.contact_valid) << "no query without a manipulandum";
+      EXPECT_EQ(r.contact_statistics.points_in_contact, 0) << "not the last cycle's contact";
       EXPECT_EQ(r.rendered.force, Eigen::Vector3d::Zero()) << start << " + " << i;
       EXPECT_EQ(r.rendered.torque, Eigen::Vector3d::Zero()) << start << " + " << i;
       EXPECT_EQ(r.simulation.position, held.position) << start << " + " << i;

@@ -10,6 +10,9 @@ void HapticCycle::step(double now) noexcept {
   r.contact_valid = false;
   r.coupling_valid = false;
   r.integrators_ok = true;
+  r.contact = {};  // a cycle that does not query reports no contact, not the last one
+  r.contact_statistics = {};
+  r.degenerate_dimension = 0;
   Wrench rendered;  // zero unless the whole chain succeeds
   if (r.device_valid) {
     const contact::ContactResult* contact = m_scene.query(m_coupling.simulation_pose());
