@@ -109,11 +109,13 @@ void HapticLoop::run(std::promise<void>& ready) noexcept {
                            "limit to allow it)");
     }
   }
-  ready.set_value();
-
+  // t₀ is fixed before start() returns, so a caller's clock read after start() is never ahead
+  // of the loop's.
   const auto period = std::chrono::duration_cast<Clock::duration>(
       std::chrono::duration<double>(1.0 / m_options.rate_hz));
   const Clock::time_point start = Clock::now() + period;
+  ready.set_value();
+
   std::int64_t slot = 0;  // periods since start
   CycleClock clock;
   clock.period = 1.0 / m_options.rate_hz;
