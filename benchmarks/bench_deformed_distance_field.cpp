@@ -126,6 +126,23 @@ void BM_Query(benchmark::State& state) {
   add_rate(state, m.points.size(), "s/query");
 }
 BENCHMARK_TEMPLATE(BM_Query, false)->Name("BM_Distance");
+
+/// culling_distance() at every query point, at threshold 0 (a deepest-level point's radius:
+/// about half the points are culled) and at −4h, below every query point's distance (all are).
+void BM_CullingDistance(benchmark::State& state) {
+  const Model& m = model();
+  kc::DeformedFieldState field(m.field);
+  if (!field.update(m.q)) state.SkipWithError("update refused the pose");
+  const double threshold =
+      static_cast<double>(state.range(0)) * m.field.field(0).geometry().spacing;
+  for (auto _ : state) {
+    double sum = 0.0;
+    for (const Eigen::Vector3d& x : m.points) sum += field.culling_distance(x, threshold);
+    benchmark::DoNotOptimize(sum);
+  }
+  add_rate(state, m.points.size(), "s/query");
+}
+BENCHMARK(BM_CullingDistance)->Arg(0)->Arg(-4)->ArgName("threshold_h");
 BENCHMARK_TEMPLATE(BM_Query, true)->Name("BM_DistanceAndGradient");
 
 void BM_Update(benchmark::State& state) {

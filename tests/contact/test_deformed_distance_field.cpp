@@ -385,6 +385,53 @@ TEST(DeformedDistanceField, MatchesEquations316And317AsWritten) {
   }
 }
 
+TEST(DeformedDistanceField, DomainsOfManyProxiesTakeTheGeneralSearchAndMatchTheReference) {
+  // Past 64 proxies a domain's neighbours are found by insertion rather than by packed keys.
+  const Beam& s = beam();
+  DeformedFieldOptions options;
+  options.proxies = 100;
+  const DeformedDistanceField field({s.field.field(0)}, s.embedding, s.basis, options);
+  ASSERT_EQ(field.num_proxies(), 100);
+  DeformedFieldState state(field);
+  const Eigen::VectorXd q = 0.3 * s.direction;
+  ASSERT_TRUE(state.update(q));
+  const ReferenceProxies proxies = reference_proxies(field, q);
+  for (const Eigen::Vector3d& x : points_near(s.deformed_surface(q), 4 * s.spacing(), 200, 5)) {
+    EXPECT_NEAR(state.distance(x), reference_distance(field, proxies, x), 1e-14);
+  }
+}
+
+TEST(DeformedDistanceField, CullingDistanceIsExactUpToTheThresholdAndABoundAboveIt) {
+  const Beam& s = beam();
+  DeformedFieldState state(s.field);
+  int bounded = 0, exact = 0;
+  for (const double amplitude : {0.0, 0.1, 0.3}) {
+    const Eigen::VectorXd q = amplitude * s.direction;
+    ASSERT_TRUE(state.update(q));
+    const TriangleMesh surface = s.deformed_surface(q);
+    for (const Eigen::Vector3d& x : points_near(surface, 6 * s.spacing(), 300, 4)) {
+      const double d = state.distance(x);
+      for (const double threshold : {-2.0, 0.0, 1.0, 3.0}) {
+        const double t = threshold * s.spacing();
+        const double culled = state.culling_distance(x, t);
+        if (d <= t) {
+          EXPECT_EQ(culled, d) << "at " << x.transpose() << ", threshold " << t;
+          ++exact;
+        } else {
+          EXPECT_GT(culled, t) << "at " << x.transpose();
+          EXPECT_LE(culled, d) << "at " << x.transpose();
+          bounded += culled < d;
+        }
+      }
+    }
+  }
+  // Both branches ran, and the one-lookup bound answered a good share of the culls.
+  EXPECT_GT(exact, 500);
+  EXPECT_GT(bounded, 500);
+  EXPECT_TRUE(std::isnan(state.culling_distance(
+      Eigen::Vector3d(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0), 0.0)));
+}
+
 TEST(DeformedDistanceField, GradientMatchesCentralDifferences) {
   const Beam& s = beam();
   const PosedBeam posed(0.2);

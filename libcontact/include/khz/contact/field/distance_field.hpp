@@ -23,6 +23,16 @@ concept DistanceField = requires(const Field& field, const Eigen::Vector3d& p, E
   noexcept->std::same_as<double>;
 };
 
+/// A DistanceField with a cheaper answer to the contact query's culling question "is d(p) above
+/// t?": culling_distance(p, t) is distance(p), bit for bit, when that is at most t, and otherwise
+/// any lower bound of distance(p) above t. noexcept, allocation-free, thread-safe.
+template <typename Field>
+concept CullingDistanceField = DistanceField<Field> &&
+    requires(const Field& field, const Eigen::Vector3d& p, double t) {
+  { field.culling_distance(p, t) }
+  noexcept->std::same_as<double>;
+};
+
 /// A distance field of a reduced deformable object (thesis §3.12), in its current deformation:
 /// besides the distances it takes the reaction of a contact, so the contact query can apply it to
 /// the object's integrator.

@@ -76,6 +76,11 @@ class KHZ_CONTACT_API DistanceGrid {
     __builtin_prefetch(c + n * n);
     __builtin_prefetch(c + n * n + n);
   }
+  /// Whether p (m) lies in the grid's box (its surface included), where distance() interpolates;
+  /// false for NaN.
+  bool contains(const Eigen::Vector3d& p) const noexcept {
+    return inside((p - m_geometry.origin) * m_inverse_spacing);
+  }
   /// distance(p), and in `gradient` the gradient of the returned function: of the trilinear
   /// interpolant inside (continuous within a cell, not across cell faces), of d_box outside
   /// (the unit vector from the box towards p).

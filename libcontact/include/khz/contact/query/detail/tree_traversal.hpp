@@ -272,20 +272,25 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
         const bool first_instance = s >= first_new_point;
         const Eigen::Vector3d& p = batch_points[k - begin];
         const Eigen::Vector3d& field_point = batch_field_points[k - begin];
+        const double radius = points.radius(n);
         double d;
         Eigen::Vector3d field_gradient;  // set with d when the exact gradient is wanted
         if (first_instance) {
           // A grid's gradient with every value costs less than a second lookup for the points
           // in contact once more than a few percent of them are; a deformed field's gradient
-          // costs as much as its value (bench_contact_query).
-          d = exact_gradient && gradient_with_value
-                  ? field.distance_and_gradient(field_point, field_gradient)
-                  : field.distance(field_point);
+          // costs as much as its value (bench_contact_query). A culled node's value may be a
+          // bound: the copies of its point are in its subtree, never read.
+          if (exact_gradient && gradient_with_value) {
+            d = field.distance_and_gradient(field_point, field_gradient);
+          } else if constexpr (CullingDistanceField<Field>) {
+            d = field.culling_distance(field_point, radius);
+          } else {
+            d = field.distance(field_point);
+          }
           point_distance[s] = d;
         } else {
           d = point_distance[s];
         }
-        const double radius = points.radius(n);
         if (d > radius) {
           if (coherent)
             ws.m_skip_until[static_cast<std::size_t>(n)] = ws.coherent_skip_until(d - radius);
