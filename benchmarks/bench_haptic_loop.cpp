@@ -326,7 +326,6 @@ kh::CouplingOptions coupling_options(const kc::ContactOptions& contact, const Pl
   o.max_rendered_force = device.max_force;
   o.max_rendered_torque = device.max_torque;
   o.device_max_stiffness = device.max_stiffness;
-  o.rotation_length = placement.object_radius;
   return o;
 }
 

@@ -52,10 +52,9 @@ inline contact::ContactOptions contact_options(contact::HapticObject held) {
 
 /// The coupling options of every case: k_VC, saturation to F_VC,max with the torque plateau
 /// F_VC,max × object_radius (§4.9), the thesis's α = 0.5 and speed limits (§4.6, §4.8), the
-/// device's limits, and the object's size as §4.10's metres per radian.
+/// device's limits; §4.10's metres per radian default to the object's size.
 inline CouplingOptions coupling_options(double object_radius) {
   CouplingOptions options;
-  options.rotation_length = object_radius;
   options.stiffness = coupling_stiffness;
   options.saturation_force = saturation_force;
   options.object_radius = object_radius;

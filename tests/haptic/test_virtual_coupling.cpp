@@ -241,15 +241,49 @@ TEST(VirtualCoupling, TwoPlanesSnapInTheirPlane) {
       1e-15);
 }
 
+// By default ℓ is the object's radius when it is given (so a small object's rotations are not
+// taken for degenerate), and the thesis's 1 m otherwise.
+TEST(VirtualCoupling, RotationLengthDefaultsToTheObjectRadius) {
+  CouplingOptions options;
+  EXPECT_EQ(options.effective_rotation_length(), 1.0);
+  options.object_radius = 0.1;
+  EXPECT_EQ(options.effective_rotation_length(), 0.1);
+  options.rotation_length = 0.3;
+  EXPECT_EQ(options.effective_rotation_length(), 0.3);
+
+  // The two-planes scene below: the default with object_radius = 0.1 steps exactly as ℓ = 0.1.
+  DegenerateScene scene;
+  scene.options = newton_options();
+  scene.options.saturation_force = 5.0;
+  scene.options.torque_stiffness = 4.0;
+  scene.contact.force_by_translation(2, 2) = -1e5;
+  scene.contact.torque_by_rotation.diagonal() << -200.0, -200.0, 0.0;
+  scene.contact.torque = {0.2, -0.1, 0.05};
+  scene.manipulandum = translated({0.6, 0.8, 0.0});
+  scene.options.object_radius = 0.1;
+  const CouplingStep automatic =
+      VirtualCoupling(scene.options).step(scene.manipulandum, scene.contact);
+  scene.options.rotation_length = 0.1;
+  const CouplingStep explicit_length =
+      VirtualCoupling(scene.options).step(scene.manipulandum, scene.contact);
+  EXPECT_EQ(automatic.degenerate_dimension, 2);
+  EXPECT_EQ(automatic.degenerate_dimension, explicit_length.degenerate_dimension);
+  EXPECT_EQ(automatic.simulation.position, explicit_length.simulation.position);
+  EXPECT_EQ(automatic.simulation.orientation.coeffs(),
+            explicit_length.simulation.orientation.coeffs());
+}
+
 // A ball in a spherical socket (§4.10): contact resists translation only. With the coupling
 // torque saturated (plateau F_VC,max × object_radius), no direction of rotation is resisted and
-// the simulation object turns onto the manipulandum's orientation (eq. 4.41).
+// the simulation object turns onto the manipulandum's orientation (eq. 4.41). In the thesis's
+// units (ℓ = 1 m): measured against the object's size, the plateau's sideways pull is not small.
 TEST(VirtualCoupling, BallInSocketSnapsItsRotation) {
   DegenerateScene scene;
   scene.options = newton_options();
   scene.options.torque_stiffness = 100.0;
   scene.options.saturation_force = 5.0;
   scene.options.object_radius = 0.05;
+  scene.options.rotation_length = 1.0;
   const double socket = 1e4;
   scene.contact.force_by_translation = -socket * Eigen::Matrix3d::Identity();
   scene.contact.force = {1.0, 0.0, 0.0};
@@ -486,6 +520,7 @@ TEST(CouplingOptions, ValidateNamesTheBadOption) {
       {[](CouplingOptions& o) { o.degenerate_threshold = 0.0; }, "degenerate_threshold"},
       {[](CouplingOptions& o) { o.degenerate_threshold = 1.0; }, "degenerate_threshold"},
       {[](CouplingOptions& o) { o.rotation_length = unlimited; }, "rotation_length"},
+      {[](CouplingOptions& o) { o.rotation_length = -0.1; }, "rotation_length"},
   };
   CouplingOptions defaults;
   EXPECT_NO_THROW(defaults.validate());

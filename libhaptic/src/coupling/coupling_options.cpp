@@ -50,8 +50,8 @@ void CouplingOptions::validate() const {
           "eq. 4.31)");
   require(degenerate_threshold > 0.0 && degenerate_threshold < 1.0, "degenerate_threshold",
           degenerate_threshold, "in (0, 1)");
-  require(finite_positive(rotation_length), "rotation_length", rotation_length,
-          "finite and > 0 (m/rad)");
+  require(rotation_length == 0.0 || finite_positive(rotation_length), "rotation_length",
+          rotation_length, "finite and > 0 (m/rad), or 0 for object_radius (1 m if unlimited)");
 }
 
 }  // namespace khz::haptic

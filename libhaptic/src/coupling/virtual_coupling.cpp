@@ -56,10 +56,11 @@ CouplingStep VirtualCoupling::step(const Pose& manipulandum,
   const Pose target_pose{manipulandum.position, manipulandum.orientation.normalized()};
 
   // Eq. 4.1–4.2 at the current simulation pose, solved for (Δx, ℓΔω) with the torque rows
-  // divided by ℓ (CouplingOptions::rotation_length; ℓ = 1 is the thesis's system as it stands).
+  // divided by ℓ (CouplingOptions::effective_rotation_length(); ℓ = 1 m is the thesis's system
+  // as it stands).
   const CouplingWrench before = coupling_wrench(target_pose, m_simulation, m_springs);
   const EquilibriumSystem system = equilibrium_system(before, contact);
-  const double length = m_options.rotation_length;
+  const double length = m_options.effective_rotation_length();
   Vector6d scale;
   scale << 1.0, 1.0, 1.0, 1.0 / length, 1.0 / length, 1.0 / length;
   Vector6d snap;  // eq. 4.41's manipulandum − simulation, in the scaled unknowns

@@ -54,11 +54,19 @@ struct KHZ_HAPTIC_API CouplingOptions {
   double device_max_stiffness = unlimited;
   /// ε of §4.10 in (0, 1): singular values below ε σ₁ count as degenerate (the thesis: 1e-3).
   double degenerate_threshold = 1e-3;
-  /// Metres per radian in §4.10's SVD and eq. 4.41's snap, finite and > 0. The 6×6 system
-  /// mixes N/m, N, N·m/rad; solving for (Δx, ℓ Δω) with the torque rows divided by ℓ makes
-  /// every block N/m, so ε compares like with like. 1 (the default) is the thesis's mixture as
-  /// it stands; the haptic object's size is the natural choice otherwise.
-  double rotation_length = 1.0;
+  /// Metres per radian ℓ in §4.10's SVD and eq. 4.41's snap: finite and > 0, or 0 (the
+  /// default) for object_radius when that is set and otherwise 1 m (the thesis's system as it
+  /// stands). The 6×6 system mixes N/m, N, N·m/rad; solving for (Δx, ℓ Δω) with the torque rows
+  /// divided by ℓ makes every block N/m, so ε compares like with like. With ℓ = 1 m the
+  /// rotations of a few-centimetre object look degenerate: they snap to the manipulandum and
+  /// ignore contact torques. The object's size is the natural choice.
+  double rotation_length = 0.0;
+
+  /// ℓ as the solve uses it: rotation_length if > 0, else object_radius if finite, else 1 m.
+  double effective_rotation_length() const noexcept {
+    if (rotation_length > 0.0) return rotation_length;
+    return object_radius < unlimited ? object_radius : 1.0;
+  }
 
   /// The springs these options describe (torque plateau F_VC,max × object_radius).
   CouplingSprings springs() const noexcept;
