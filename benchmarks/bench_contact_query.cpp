@@ -12,6 +12,9 @@
 //    (§3.10.3) at 100 and 250 µs.
 // E  deformable–deformable (Table 3.1's dragon + dinosaur): B's dragon and path against the dino
 //    deforming too (r = 15), through its deformed distance field (§3.12: 40 proxies, k = 5).
+// F  peg edge on wall: C's block and a peg 4 mm narrower than the hole on each side, tilted 5°
+//    and pressed against one wall so that only its lowest edge digs in, as in an assembly
+//    insertion; lowered, rocked and pulled up as in C.
 // D  graceful degradation's force error: force and torque rendering levels 0…L−1 only, against
 //    the full depth, at contact poses of A and C.
 //
@@ -253,14 +256,21 @@ const Scene<kc::DeformablePointTree, kc::DeformedFieldState>& scene_e() {
   return scene;
 }
 
-// C: a 200 × 200 × 120 mm block with an 80 × 80 × 100 mm blind hole; the peg is 0.8 voxel wider
+// C and F's block: 200 × 200 × 120 mm (top at z = 0.12 m) with an 80 × 80 × 100 mm blind hole.
+constexpr double block_top = 0.12;
+const kc::DistanceGrid& block_field() {
+  static const kc::DistanceGrid field = khz::bench::cached_signed_field(
+      "block_with_hole", khz::bench::block_with_hole(0.1, block_top, 0.04, 0.1), 256);
+  return field;
+}
+
+// C: the block; the peg is 0.8 voxel wider
 // than the hole, turned 0.4° about the vertical and 0.3 voxel off-centre, lowered to 85 mm deep,
 // rocked, and pulled up to 30 mm.
 const Scene<kc::PointTree, kc::DistanceGrid>& scene_c() {
   static const auto scene = [] {
-    const double half_hole = 0.04, top = 0.12, depth = 0.1;
-    static const kc::DistanceGrid field = khz::bench::cached_signed_field(
-        "block_with_hole", khz::bench::block_with_hole(0.1, top, half_hole, depth), 256);
+    const double half_hole = 0.04;
+    const kc::DistanceGrid& field = block_field();
     const double h = field.geometry().spacing;
     static const kc::PointTree tree(khz::bench::cached_pointshell(
         "peg", khz::bench::square_peg(half_hole + 0.4 * h, 0.14), false, 128, 769, 5));
@@ -274,7 +284,8 @@ const Scene<kc::PointTree, kc::DistanceGrid>& scene_c() {
     const Clock::time_point start = Clock::now();
     for (int i = 0; i < poses; ++i) {
       const double t = static_cast<double>(i) / (poses - 1);
-      const double bottom = top + 0.02 - 0.105 * ramp(t, 0.0, 0.7) + 0.055 * ramp(t, 0.85, 1.0);
+      const double bottom =
+          block_top + 0.02 - 0.105 * ramp(t, 0.0, 0.7) + 0.055 * ramp(t, 0.85, 1.0);
       Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
       pose.linear() =
           rotation_about(Eigen::Vector3d::UnitZ(), 0.4 * degrees) *
@@ -287,6 +298,51 @@ const Scene<kc::PointTree, kc::DistanceGrid>& scene_c() {
     }
     khz::bench::precompute_log().push_back(
         {"C trajectory", khz::bench::seconds_since(start), false});
+    s.coherence = khz::bench::coherence_bounds(s.trajectory, tree, 0.0);
+    return s;
+  }();
+  return scene;
+}
+
+// F: C's block and a peg 4 mm narrower than the hole on each side, tilted 5° about y, pressed
+// against the hole's +x wall so that only its lowest edge digs in (0.5 voxel, a strip a few mm
+// tall): the usual contact of an assembly insertion. Lowered to 85 mm deep sliding along the
+// wall, rocked about x, pulled up to 30 mm.
+const Scene<kc::PointTree, kc::DistanceGrid>& scene_f() {
+  static const auto scene = [] {
+    const double half_hole = 0.04, clearance = 0.004, tilt = 5.0 * degrees;
+    const kc::DistanceGrid& field = block_field();
+    const double h = field.geometry().spacing;
+    const double half_peg = half_hole - clearance;
+    static const kc::PointTree tree(khz::bench::cached_pointshell(
+        "narrow_peg", khz::bench::square_peg(half_peg, 0.14), false, 128, 769, 5));
+    Scene<kc::PointTree, kc::DistanceGrid> s;
+    s.name = "F peg edge on wall";
+    s.tree = &tree;
+    s.field = &field;
+    s.field_label = cube_label(field);
+    s.voxel = h;
+    const int poses = 400;
+    const Clock::time_point start = Clock::now();
+    // Turned by −tilt about y, the peg's lowest +x edge is its rightmost line, at x = a cos(tilt)
+    // plus the translation.
+    const double x = half_hole + 0.5 * h - half_peg * std::cos(tilt);
+    for (int i = 0; i < poses; ++i) {
+      const double t = static_cast<double>(i) / (poses - 1);
+      const double bottom =
+          block_top + 0.02 - 0.105 * ramp(t, 0.0, 0.7) + 0.055 * ramp(t, 0.85, 1.0);
+      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+      pose.linear() =
+          rotation_about(Eigen::Vector3d::UnitX(),
+                         0.3 * degrees * std::sin(4.0 * std::numbers::pi * ramp(t, 0.7, 0.85))) *
+          rotation_about(Eigen::Vector3d::UnitY(), -tilt);
+      pose.translation() = Eigen::Vector3d(x, 0.0, bottom);
+      s.trajectory.pointshell.push_back(pose);
+      s.trajectory.penetration.push_back(
+          std::max(0.0, -khz::bench::min_distance(khz::bench::RigidShape(tree), field, pose)));
+    }
+    khz::bench::precompute_log().push_back(
+        {"F trajectory", khz::bench::seconds_since(start), false});
     s.coherence = khz::bench::coherence_bounds(s.trajectory, tree, 0.0);
     return s;
   }();
@@ -603,6 +659,7 @@ int main(int argc, char** argv) {
   register_runs("B_deformable_dragon_r15_dino256", scene_b, false);
   register_runs("C_peg_in_hole", scene_c, true);
   register_runs("E_deformable_dragon_r15_deformable_dino_r15", scene_e, false);
+  register_runs("F_peg_edge_on_wall", scene_f, false);
   benchmark::RegisterBenchmark("D_force_error_per_level", [](benchmark::State& state) {
     for (auto _ : state) {
       force_error_per_level(scene_a());
