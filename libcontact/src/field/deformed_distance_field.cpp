@@ -154,17 +154,18 @@ void find_nearest_by_insertion(const StateView& s, Eigen::Index begin, Eigen::In
 /// Eight 64-bit keys, one vector register (or two, or four, on narrower SIMD).
 using KeyLanes = std::int64_t __attribute__((vector_size(64)));
 
-/// The lanes of `keys` in the order `indices`, a constant permutation of 0…7.
+/// keys = min(keys, keys permuted by `indices`), a constant permutation of 0…7, lane by lane.
+/// Vectors go by reference: passed or returned by value they would change the function's ABI
+/// between builds with and without AVX-512 (GCC's -Wpsabi).
 template <int... indices>
-KeyLanes permute(KeyLanes keys) noexcept {
+void keep_minimum_with_permutation(KeyLanes& keys) noexcept {
 #if defined(__clang__)
-  return __builtin_shufflevector(keys, keys, indices...);
+  const KeyLanes permuted = __builtin_shufflevector(keys, keys, indices...);
 #else
-  return __builtin_shuffle(keys, KeyLanes{indices...});
+  const KeyLanes permuted = __builtin_shuffle(keys, KeyLanes{indices...});
 #endif
+  keys = keys < permuted ? keys : permuted;
 }
-
-KeyLanes lane_minimum(KeyLanes a, KeyLanes b) noexcept { return a < b ? a : b; }
 
 /// The k nearest for domains of up to 64 proxies (the thesis uses ~40), without a branch per
 /// proxy: each squared distance becomes an integer key that sorts like it (IEEE bits of a
@@ -198,11 +199,14 @@ void find_nearest(const StateView& s, Eigen::Index begin, Eigen::Index end, int 
   std::memcpy(row.data(), keys.data(), static_cast<std::size_t>(rows) * sizeof(KeyLanes));
   for (int m = 0; m < k; ++m) {
     KeyLanes least = row[0];
-    for (int r = 1; r < rows; ++r) least = lane_minimum(least, row[static_cast<std::size_t>(r)]);
+    for (int r = 1; r < rows; ++r) {
+      const KeyLanes& other = row[static_cast<std::size_t>(r)];
+      least = least < other ? least : other;
+    }
     // The least key into every lane, by three butterflies.
-    least = lane_minimum(least, permute<4, 5, 6, 7, 0, 1, 2, 3>(least));
-    least = lane_minimum(least, permute<2, 3, 0, 1, 6, 7, 4, 5>(least));
-    least = lane_minimum(least, permute<1, 0, 3, 2, 5, 4, 7, 6>(least));
+    keep_minimum_with_permutation<4, 5, 6, 7, 0, 1, 2, 3>(least);
+    keep_minimum_with_permutation<2, 3, 0, 1, 6, 7, 4, 5>(least);
+    keep_minimum_with_permutation<1, 0, 3, 2, 5, 4, 7, 6>(least);
     for (int r = 0; r < rows; ++r) {
       KeyLanes& lane = row[static_cast<std::size_t>(r)];
       lane = lane == least ? absent : lane;

@@ -178,9 +178,11 @@ std::uint32_t ContactWorkspace::coherent_skip_until(double gap) const noexcept {
   return m_cycle + 1 + static_cast<std::uint32_t>(std::max(skips, 0.0));
 }
 
-double ContactWorkspace::seconds_per_unit(double elapsed, double units) const noexcept {
+double ContactWorkspace::seconds_per_unit(double elapsed, double units, double level_seconds,
+                                          double level_units) const noexcept {
   const double measured = units >= min_measured_units ? elapsed / units : 0.0;
-  return std::max(m_seconds_per_unit, measured);
+  const double level = level_units >= min_measured_units ? level_seconds / level_units : 0.0;
+  return std::max({m_seconds_per_unit, measured, level});
 }
 
 void ContactWorkspace::end_degradation(int deepest_level, double seconds,

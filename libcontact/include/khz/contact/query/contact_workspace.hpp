@@ -72,9 +72,13 @@ class KHZ_CONTACT_API ContactWorkspace {
                        const double* q, const double* field_q, double field_bound) noexcept;
   /// The query after which a node culled with gap `gap` (m, > 0) must be looked at again.
   std::uint32_t coherent_skip_until(double gap) const noexcept;
-  /// time_budget mode: the cost per unit (s) to plan with, `elapsed` (s) into a query that has
-  /// done `units` so far.
-  double seconds_per_unit(double elapsed, double units) const noexcept;
+  /// time_budget mode: the cost per unit (s) to plan the next level with, `elapsed` (s) into a
+  /// query that has done `units` so far, `level_seconds` and `level_units` of them in the level
+  /// just finished: the largest of the remembered cost and the measured ones. Deeper levels read
+  /// memory the coarse ones left cold, so the last level's cost predicts the next better than
+  /// the query's average does.
+  double seconds_per_unit(double elapsed, double units, double level_seconds,
+                          double level_units) const noexcept;
   /// After a query: keeps the level of detail and the measured cost per unit.
   void end_degradation(int deepest_level, double seconds, double cost_units) noexcept;
 

@@ -231,6 +231,11 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
     return traversed + queued + degradation.contact_weight * (contacts + contact_share * queued);
   };
 
+  // time_budget: when the level just finished started, and the cost units done before it.
+  struct {
+    double seconds = 0.0, units = 0.0;
+  } level_started;
+
   // Level 0 is always rendered: all its nodes.
   std::int32_t* current = ws.m_current.data();
   std::int32_t* next = ws.m_next.data();
@@ -343,10 +348,13 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
       } else {
         const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
         const double units_so_far = cost_units(traversed, contacts, 0.0);
-        const double per_unit = ws.seconds_per_unit(elapsed, units_so_far);
+        const double per_unit =
+            ws.seconds_per_unit(elapsed, units_so_far, elapsed - level_started.seconds,
+                                units_so_far - level_started.units);
         const double predicted =
             elapsed + per_unit * (cost_units(traversed, contacts, queued) - units_so_far);
         render = predicted <= limit_fraction * degradation.budget_microseconds * 1e-6;
+        level_started = {elapsed, units_so_far};
       }
       if (!render) {
         stats.complete = false;
