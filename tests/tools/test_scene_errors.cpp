@@ -1,0 +1,507 @@
+// Malformed scene files: each is refused with a SceneError naming the file, the JSON path of the
+// offending key, what was expected and what was found.
+#include <khz/scene/read_scene.hpp>
+#include <khz/scene/scene_error.hpp>
+#include <khz/test/fixtures.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <functional>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+
+namespace khz::scene {
+namespace {
+
+using Json = nlohmann::json;
+
+SceneReadOptions test_options() {
+  SceneReadOptions options;
+  options.base_directory = test::test_file("scenes");
+  options.cgal_mesh_dir = test::cgal_mesh("dino.off").parent_path();
+  return options;
+}
+
+Json minimal_scene() {
+  return Json::parse(R"({
+    "objects": [
+      {"name": "tool", "mesh": "cube.off", "roles": ["pointshell"]},
+      {"name": "wall", "mesh": "cube.off", "roles": ["distance_field"]}
+    ],
+    "haptic": {"object": "tool"}
+  })");
+}
+
+/// minimal_scene() with the wall a reduced model.
+Json reduced_scene() {
+  Json scene = minimal_scene();
+  scene["objects"][1]["model"] = {
+      {"type", "reduced"},
+      {"material", {{"young_modulus", 1e6}, {"poisson_ratio", 0.45}, {"density", 1000}}}};
+  return scene;
+}
+
+/// Succeeds if parsing `text` throws a SceneError at `path` whose message is `message` exactly.
+::testing::AssertionResult text_fails_with(const std::string& text, std::string_view path,
+                                           std::string_view message) {
+  try {
+    parse_scene(text, "scene.json", test_options());
+  } catch (const SceneError& error) {
+    const std::string expected_what =
+        path.empty() ? "scene.json: " + std::string(message)
+                     : "scene.json: " + std::string(path) + ": " + std::string(message);
+    if (error.source() == "scene.json" && error.key_path() == path && error.message() == message &&
+        error.what() == expected_what) {
+      return ::testing::AssertionSuccess();
+    }
+    return ::testing::AssertionFailure()
+           << "got      \"" << error.what() << "\"\nexpected \"" << expected_what << "\"";
+  } catch (const std::exception& error) {
+    return ::testing::AssertionFailure() << "threw another type: " << error.what();
+  }
+  return ::testing::AssertionFailure() << "did not throw";
+}
+
+::testing::AssertionResult fails_with(const Json& scene, std::string_view path,
+                                      std::string_view message) {
+  return text_fails_with(scene.dump(2), path, message);
+}
+
+/// minimal_scene() (or `base`) edited by `edit`.
+Json edited(const std::function<void(Json&)>& edit, Json base = minimal_scene()) {
+  edit(base);
+  return base;
+}
+
+TEST(SceneErrors, JsonSyntax) {
+  try {
+    parse_scene("{\n  \"objects\": [\n    {\"name\": tru}\n  ]\n}\n", "scene.json");
+    ADD_FAILURE() << "no error";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(error.line(), 3);
+    EXPECT_EQ(error.column(), 17);
+    EXPECT_EQ(std::string(error.what()),
+              "scene.json:3:17: JSON syntax error: syntax error while parsing value - invalid "
+              "literal; last read: '\"name\": tru}'");
+  }
+  try {
+    parse_scene("", "empty.json");
+    ADD_FAILURE() << "no error";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "empty.json:1:1: JSON syntax error: syntax error while parsing value - unexpected "
+              "end of input; expected '[', '{', or a literal");
+  }
+  EXPECT_TRUE(text_fails_with(R"({"objects": [{"name": "a", "scale": 1e400}]})", "objects[0].scale",
+                              "number out of range: number overflow parsing '1e400'"));
+  EXPECT_TRUE(text_fails_with("[1, 2]", "", "expected an object {...}, got [1,2]"));
+}
+
+TEST(SceneErrors, DuplicateKeys) {
+  EXPECT_TRUE(text_fails_with(R"({"objects": [{"name": "a"}, {"name": "b", "field": {"cells": 1,
+                             "cells": 2}}]})",
+                              "objects[1].field.cells",
+                              "duplicate key: an object may name each key once"));
+  EXPECT_TRUE(text_fails_with(R"({"loop": {}, "loop": {}})", "loop",
+                              "duplicate key: an object may name each key once"));
+}
+
+TEST(SceneErrors, UnknownKeysSuggestTheClosestKnownOne) {
+  EXPECT_TRUE(fails_with(edited(
+                             [](Json& s) {
+                               s["objects"][1]["model"]["meshing"] = {{"resoluton", 32}};
+                             },
+                             reduced_scene()),
+                         "objects[1].model.meshing.resoluton",
+                         "unknown key; did you mean \"resolution\"?"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][0]["centre"] = true;
+                           s["objects"][0]["center"] = true;
+                         }),
+                         "objects[0].center", "unknown key; did you mean \"centre\"?"));
+  // Not a typo, but the name of the same setting elsewhere.
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][1]["field"] = {{"resolution", 64}};
+                         }),
+                         "objects[1].field.resolution", "unknown key; did you mean \"cells\"?"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][1]["field"] = {{"resoluton", 64}};
+                         }),
+                         "objects[1].field.resoluton", "unknown key; did you mean \"cells\"?"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["loop"] = {{"period", 0.001}};
+                         }),
+                         "loop.period",
+                         "unknown key; the keys here are cpu, duration, priority, rate_hz, "
+                         "realtime_priority"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["coupling"] = {{"period", 0.001}};
+                         }),
+                         "coupling.period", "unknown key; did you mean \"loop.rate_hz\"?"));
+}
+
+TEST(SceneErrors, MissingRequiredKeys) {
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][1].erase("mesh"); }), "objects[1]",
+                         "missing required key \"mesh\" (the surface mesh file, or "
+                         "\"cgal:NAME\")"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s.erase("haptic"); }), "",
+                         "missing required key \"haptic\" (the held object and its grasp "
+                         "point)"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s.erase("objects"); }), "",
+                         "missing required key \"objects\" (the scene's objects)"));
+  EXPECT_TRUE(
+      fails_with(edited([](Json& s) { s["objects"][1]["model"]["material"].erase("density"); },
+                        reduced_scene()),
+                 "objects[1].model.material", "missing required key \"density\" (ρ in kg/m³)"));
+  EXPECT_TRUE(fails_with(
+      edited([](Json& s) { s["objects"][1]["model"].erase("material"); }, reduced_scene()),
+      "objects[1].model",
+      "missing required key \"material\" (young_modulus, poisson_ratio and "
+      "density)"));
+}
+
+TEST(SceneErrors, WrongTypes) {
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][0]["scale"] = "big"; }),
+                         "objects[0].scale", "expected a number > 0, got \"big\""));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][1]["field"] = {{"cells", 2.5}};
+                         }),
+                         "objects[1].field.cells", "expected an integer in [1, 32768], got 2.5"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][0]["centre"] = "yes"; }),
+                         "objects[0].centre", "expected true or false, got \"yes\""));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][0]["pose"] = {{"position", {1, 2}}};
+                         }),
+                         "objects[0].pose.position",
+                         "expected an array of 3 numbers [x, y, z], got [1,2]"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"] = Json::object(); }), "objects",
+                         "expected a non-empty array of objects [{...}], got {}"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["contact"] = 5; }), "contact",
+                         "expected an object {...}, got 5"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][0]["name"] = ""; }), "objects[0].name",
+                         "expected a non-empty string, got \"\""));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["version"] = 2; }), "version",
+                         "expected 1 (the only scene format version so far), got 2"));
+}
+
+TEST(SceneErrors, NumbersOutOfRange) {
+  EXPECT_TRUE(
+      fails_with(edited(
+                     [](Json& s) {
+                       s["objects"][1]["model"]["basis"] = {{"method", "sketch"}, {"r", -3}};
+                       s["objects"][1]["model"]["anchors"] =
+                           Json::parse(R"([{"type": "box", "min": [0,0,0], "max": [1,1,1]}])");
+                     },
+                     reduced_scene()),
+                 "objects[1].model.basis.r", "expected an integer ≥ 1, got -3"));
+  EXPECT_TRUE(fails_with(edited(
+                             [](Json& s) {
+                               s["objects"][1]["model"]["basis"] = {{"k", 4}, {"r", 40}};
+                             },
+                             reduced_scene()),
+                         "objects[1].model.basis.r",
+                         "expected an integer in [1, 20] (k + k² for k = 4 without anchors), "
+                         "got 40"));
+  EXPECT_TRUE(fails_with(
+      edited(
+          [](Json& s) {
+            s["objects"][1]["model"]["basis"] = {{"k", 4}, {"r", 5}, {"modal_derivatives", false}};
+          },
+          reduced_scene()),
+      "objects[1].model.basis.r",
+      "expected an integer in [1, 4] (at most k = 4 without modal "
+      "derivatives), got 5"));
+  EXPECT_TRUE(fails_with(
+      edited([](Json& s) { s["objects"][1]["model"]["material"]["poisson_ratio"] = 0.5; },
+             reduced_scene()),
+      "objects[1].model.material.poisson_ratio", "expected a number in (-1, 0.5), got 0.5"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][1]["field"] = {{"cells", 0}};
+                         }),
+                         "objects[1].field.cells", "expected an integer in [1, 32768], got 0"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][1]["field"] = {{"exact_band", 1}};
+                         }),
+                         "objects[1].field.exact_band",
+                         "expected a number ≥ √3 ≈ 1.732 (cell spacings), got 1"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["coupling"] = {{"static_damping", 1}};
+                         }),
+                         "coupling.static_damping", "expected a number in [0, 1), got 1"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["loop"] = {{"rate_hz", 0}};
+                         }),
+                         "loop.rate_hz", "expected a number in (0, 100000], got 0"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][0]["pointshell"] = {{"levels", 3e9}};
+                         }),
+                         "objects[0].pointshell.levels",
+                         "expected an integer ≥ 1, got 3000000000.0 (outside [-2147483648, "
+                         "2147483647])"));
+  EXPECT_TRUE(
+      fails_with(edited([](Json& s) {
+                   s["objects"][0]["pointshell"] = {{"first_level_points", 1000}, {"levels", 14}};
+                 }),
+                 "objects[0].pointshell.first_level_points",
+                 "n₀(4ᴸ − 1)/3 = 89478485000 points for n₀ = 1000 and L = 14: expected "
+                 "at most 2147483647 points in all"));
+  EXPECT_TRUE(fails_with(edited(
+                             [](Json& s) {
+                               s["objects"][1]["field"] = {{"proxies", 4}, {"neighbours", 6}};
+                             },
+                             reduced_scene()),
+                         "objects[1].field.proxies",
+                         "expected an integer ≥ neighbours (6), got 4"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["coupling"] = {{"stiffness", 4000}, {"device_max_stiffness", 3000}};
+                         }),
+                         "coupling.stiffness",
+                         "expected at most device_max_stiffness = 3000 N/m (k_VC bounds the "
+                         "stiffness the device renders, thesis §4.7), got 4000"));
+}
+
+TEST(SceneErrors, ChoicesAndSettingsOfAnotherChoice) {
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["contact"] = {{"degradation", {{"mode", "nodes"}}}};
+                         }),
+                         "contact.degradation.mode",
+                         "expected one of \"none\", \"node_count\" or \"time_budget\", got "
+                         "\"nodes\""));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][0]["roles"] = {"pointshel"}; }),
+                         "objects[0].roles[0]",
+                         "expected one of \"pointshell\" or \"distance_field\", got "
+                         "\"pointshel\"; did you mean \"pointshell\"?"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["contact"] = {{"degradation", {{"budget_microseconds", 100}}}};
+                         }),
+                         "contact.degradation.budget_microseconds",
+                         "applies only to mode \"time_budget\" (mode is \"none\")"));
+  EXPECT_TRUE(fails_with(
+      edited(
+          [](Json& s) {
+            s["objects"][1]["model"]["meshing"] = {{"method", "tetrahedra"}, {"resolution", 32}};
+          },
+          reduced_scene()),
+      "objects[1].model.meshing.resolution",
+      "applies only to method \"voxels\" (method is \"tetrahedra\")"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][0]["pointshell"] = {{"method", "repulsion"}, {"growth", 4}};
+                         }),
+                         "objects[0].pointshell.growth",
+                         "applies only to the methods \"vertices\", \"random\" and \"voxels\" "
+                         "(repulsion's levels grow by 4)"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][0]["pointshell"] = {{"method", "random"}};
+                         }),
+                         "objects[0].pointshell",
+                         "missing required key \"points\" (the number of random samples)"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["contact"] = {{"coherence", {{"max_translation", 0.001}}}};
+                         }),
+                         "contact.coherence.max_translation",
+                         "applies only to enabled temporal coherence (\"enabled\": true)"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["device"] = {{"type", "null"}, {"file", "press.csv"}};
+                         }),
+                         "device.file", "applies only to type \"trajectory\" (type is \"null\")"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][1]["field"] = {{"offset", 0.01}};
+                         }),
+                         "objects[1].field.offset",
+                         "applies only to polygon soups (\"soup\": true)"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][0]["scale"] = 2;
+                           s["objects"][0]["size"] = 0.1;
+                         }),
+                         "objects[0].size", "give either \"scale\" or \"size\", not both"));
+}
+
+TEST(SceneErrors, ObjectsAndRoles) {
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][1]["name"] = "tool"; }),
+                         "objects[1].name",
+                         "duplicate object name \"tool\" (objects[0] has it too)"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][1]["name"] = "my wall"; }),
+                         "objects[1].name",
+                         "expected a name of letters, digits, '_', '-' and '.' not starting with "
+                         "'.', got \"my wall\""));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][1]["roles"] = Json::array(); }),
+                         "objects[1].roles",
+                         "an object needs a role: expected \"pointshell\", \"distance_field\" or "
+                         "both, got []"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][1]["roles"] = {"distance_field", "distance_field"};
+                         }),
+                         "objects[1].roles[1]", "duplicate role \"distance_field\""));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][1]["pointshell"] = {{"levels", 3}};
+                         }),
+                         "objects[1].pointshell",
+                         "pointshell settings on an object without the \"pointshell\" role"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][0]["pointshell"] = {{"method", "vertices"}};
+                           s["objects"][0]["field"] = {{"cells", 64}};
+                         }),
+                         "objects[0].field",
+                         "field settings on an object that has no distance field: it has no "
+                         "\"distance_field\" role and no repulsion pointshell"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][1]["field"] = {{"proxies", 30}};
+                         }),
+                         "objects[1].field.proxies",
+                         "applies only to a reduced object with the distance_field role (its "
+                         "deformed field's proxies)"));
+}
+
+TEST(SceneErrors, TheHeldObject) {
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["haptic"]["object"] = "tol"; }), "haptic.object",
+                         "no object is named \"tol\"; did you mean \"tool\"?"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["haptic"]["object"] = "hammer"; }), "haptic.object",
+                         "no object is named \"hammer\" (the objects are \"tool\", \"wall\")"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["haptic"]["role"] = "distance_field"; }),
+                         "haptic.role",
+                         "object \"tool\" (objects[0]) has no \"distance_field\" role (its roles: "
+                         "\"pointshell\")"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][1]["roles"] = {"pointshell"}; }),
+                         "objects[1].roles",
+                         "object \"wall\" touches nothing: the held object \"tool\" plays "
+                         "\"pointshell\", so the other objects need the \"distance_field\" role"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"].erase(1); }), "haptic.object",
+                         "the held object \"tool\" (objects[0]) plays \"pointshell\", but there is "
+                         "no other object with the \"distance_field\" role for it to touch"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["haptic"]["grasp_point"] = "center"; }),
+                         "haptic.grasp_point",
+                         "expected \"centre\", got \"center\"; did you mean \"centre\"?"));
+}
+
+TEST(SceneErrors, ReducedModelSettings) {
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["objects"][1]["model"] = {{"basis", {{"k", 5}}}};
+                         }),
+                         "objects[1].model.basis",
+                         "reduced-model settings on a rigid object (model.type is \"rigid\" by "
+                         "default); set \"type\": \"reduced\" or remove this key"));
+  EXPECT_TRUE(
+      fails_with(edited([](Json& s) {
+                   s["objects"][1]["model"] = {{"type", "rigid"}, {"anchors", Json::array()}};
+                 }),
+                 "objects[1].model.anchors",
+                 "reduced-model settings on a rigid object (model.type is \"rigid\"); set "
+                 "\"type\": \"reduced\" or remove this key"));
+  EXPECT_TRUE(fails_with(edited(
+                             [](Json& s) {
+                               s["objects"][1]["model"]["basis"] = {
+                                   {"method", "sketch"}, {"r", 3}, {"loads", "loads.csv"}};
+                             },
+                             reduced_scene()),
+                         "objects[1].model.basis.method",
+                         "a sketch basis needs anchors (model.anchors): its static solves need "
+                         "the rigid motions removed"));
+  EXPECT_TRUE(fails_with(edited(
+                             [](Json& s) {
+                               s["objects"][1]["model"]["anchors"] = Json::parse(
+                                   R"([{"type": "box", "min": [0, 0, 0], "max": [1, -1, 1]}])");
+                             },
+                             reduced_scene()),
+                         "objects[1].model.anchors[0].max",
+                         "expected a corner ≥ min [0,0,0] in every coordinate, got [1,-1,1]"));
+  EXPECT_TRUE(fails_with(
+      edited(
+          [](Json& s) {
+            s["objects"][1]["model"]["anchors"] =
+                Json::parse(R"([{"type": "half_space", "point": [0, 0, 0], "normal": [0, 0, 0]}])");
+          },
+          reduced_scene()),
+      "objects[1].model.anchors[0].normal", "expected a non-zero normal, got [0,0,0]"));
+  EXPECT_TRUE(fails_with(edited(
+                             [](Json& s) {
+                               s["objects"][1]["field"] = {{"soup", true}};
+                               s["objects"][1]["model"]["meshing"] = {{"method", "tetrahedra"}};
+                             },
+                             reduced_scene()),
+                         "objects[1].model.meshing.method",
+                         "\"tetrahedra\" needs a closed surface, but field.soup says the mesh is "
+                         "a polygon soup; use \"voxels\""));
+}
+
+TEST(SceneErrors, FilesThatDoNotExist) {
+  const std::string directory = test::test_file("scenes").lexically_normal().string();
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][1]["mesh"] = "meshes/wall.off"; }),
+                         "objects[1].mesh",
+                         "mesh file not found: " + directory +
+                             "/meshes/wall.off (from "
+                             "\"meshes/wall.off\" relative to " +
+                             directory + ")"));
+  EXPECT_TRUE(fails_with(
+      edited([](Json& s) { s["objects"][1]["mesh"] = "cgal:wall.off"; }), "objects[1].mesh",
+      "mesh file not found: " + test::cgal_mesh("dino.off").parent_path().string() +
+          "/wall.off (CGAL's demo mesh \"wall.off\" in " +
+          test::cgal_mesh("dino.off").parent_path().string() + ")"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][1]["mesh"] = "cgal:../dino.off"; }),
+                         "objects[1].mesh",
+                         "expected \"cgal:NAME\" with NAME one of CGAL's demo meshes, e.g. "
+                         "\"cgal:dino.off\", got \"cgal:../dino.off\""));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][1]["mesh"] = "wall.vtk"; }),
+                         "objects[1].mesh",
+                         "expected a surface mesh file (.obj, .off, .stl or .ply), got "
+                         "\"wall.vtk\""));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["device"] = {{"type", "trajectory"}, {"file", "gone.csv"}};
+                         }),
+                         "device.file",
+                         "trajectory file not found: " + directory +
+                             "/gone.csv (from "
+                             "\"gone.csv\" relative to " +
+                             directory + ")"));
+}
+
+TEST(SceneErrors, Devices) {
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["device"] = Json::parse(R"({"type": "operator", "keyframes": [
+                               {"time": 0, "position": [0, 0, 0]},
+                               {"time": 0.5, "position": [0, 0, 0.01]},
+                               {"time": 0.5, "position": [0, 0, 0.02]}]})");
+                         }),
+                         "device.keyframes[2].time",
+                         "expected a time after keyframes[1].time = 0.5 s, got 0.5"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["device"] = {{"type", "operator"}, {"keyframes", Json::array()}};
+                         }),
+                         "device.keyframes",
+                         "expected a non-empty array of keyframes [{\"time\", \"position\", "
+                         "\"rotation\"}], got []"));
+  EXPECT_TRUE(fails_with(
+      edited([](Json& s) {
+        s["device"] = {{"type", "hardware"}, {"name", "dhd"}, {"capabilities", {{"max_force", 5}}}};
+      }),
+      "device.capabilities",
+      "applies only to the null, trajectory and operator devices (a hardware "
+      "device reports its own)"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["device"] = {{"capabilities", {{"workspace_max", {0.1, 0.1, -0.2}}}}};
+                         }),
+                         "device.capabilities.workspace_max",
+                         "expected workspace_min < workspace_max in every coordinate, got [-0.1, "
+                         "-0.1, -0.1] and [0.1, 0.1, -0.2]"));
+  // The operator's stability is the library's check, reported at the device.
+  try {
+    parse_scene(edited([](Json& s) {
+                  s["device"] = Json::parse(R"({"type": "operator", "substeps": 1,
+                      "keyframes": [{"time": 0, "position": [0, 0, 0]}],
+                      "hand": {"stiffness": 1e9}})");
+                }).dump(),
+                "scene.json", test_options());
+    ADD_FAILURE() << "no error";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(error.key_path(), "device");
+    EXPECT_EQ(
+        error.message().rfind("the simulated operator cannot run at loop.rate_hz = 1000 Hz: ", 0),
+        0u)
+        << error.message();
+  }
+}
+
+}  // namespace
+}  // namespace khz::scene

@@ -1,0 +1,87 @@
+#pragma once
+// Where scene preparation keeps what it computed: one file per product, named by the content key
+// of exactly the inputs it depends on, so a second run reads instead of computing and a changed
+// parameter recomputes only what depends on it (issue 9, "model only what a scene needs").
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace khz::scene {
+
+/// A directory of prepared products, each stored as `<directory>/<name>-<key>.<extension>`.
+///
+/// A product is written to a temporary file in the same directory and renamed into place, so an
+/// interrupted or failed computation never leaves a file that looks complete; a product file
+/// that exists is trusted (its own format carries a checksum that the reader verifies).
+/// Not thread-safe; one ProductCache per preparing thread.
+class ProductCache {
+ public:
+  /// What fetch() did for one product.
+  struct Record {
+    std::string name;            ///< e.g. "dino field".
+    std::filesystem::path file;  ///< Where the product is stored.
+    bool computed = false;       ///< false: read from the cache.
+    double seconds = 0.0;        ///< Wall time of the computation (and its write) or the read.
+  };
+
+  /// Uses (and creates, with its parents) `directory`.
+  /// @throws khz::reduced::IoError naming the directory if it cannot be created.
+  explicit ProductCache(std::filesystem::path directory);
+
+  const std::filesystem::path& directory() const noexcept { return m_directory; }
+
+  /// The file a product with this name, key and extension is stored in. The name is reduced to
+  /// letters, digits, '-' and '_' (others become '_'), so any object name is safe in a path.
+  std::filesystem::path file(const std::string& name, const std::string& key,
+                             const std::string& extension) const;
+
+  /// The product: read with `read(file)` if its file exists, otherwise computed with
+  /// `compute()`, written with `write(product, temporary)` and renamed into place. Records what
+  /// happened (records()).
+  /// @throws what read, compute or write throw (the cache keeps no partial file);
+  ///         khz::reduced::IoError if the rename fails.
+  template <typename Product>
+  Product fetch(const std::string& name, const std::string& key, const std::string& extension,
+                const std::function<Product(const std::filesystem::path&)>& read,
+                const std::function<Product()>& compute,
+                const std::function<void(const Product&, const std::filesystem::path&)>& write) {
+    const std::filesystem::path target = file(name, key, extension);
+    const auto start = std::chrono::steady_clock::now();
+    if (std::filesystem::exists(target)) {
+      Product product = read(target);
+      record(name, target, false, start);
+      return product;
+    }
+    Product product = compute();
+    const std::filesystem::path temporary = temporary_file(target);
+    try {
+      write(product, temporary);
+      commit(temporary, target);
+    } catch (...) {
+      std::error_code ignored;
+      std::filesystem::remove(temporary, ignored);
+      throw;
+    }
+    record(name, target, true, start);
+    return product;
+  }
+
+  /// Every fetch() so far, in order.
+  const std::vector<Record>& records() const noexcept { return m_records; }
+  /// How many of records() were computed rather than read.
+  int computed_count() const noexcept;
+
+ private:
+  std::filesystem::path temporary_file(const std::filesystem::path& target) const;
+  static void commit(const std::filesystem::path& temporary, const std::filesystem::path& target);
+  void record(const std::string& name, const std::filesystem::path& file, bool computed,
+              std::chrono::steady_clock::time_point start);
+
+  std::filesystem::path m_directory;
+  std::vector<Record> m_records;
+};
+
+}  // namespace khz::scene

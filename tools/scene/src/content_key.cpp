@@ -1,0 +1,257 @@
+#include <khz/scene/content_key.hpp>
+
+#include "names.hpp"
+
+#include <khz/reduced/errors.hpp>
+
+#include <xxhash.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+
+namespace khz::scene {
+namespace {
+
+using Json = nlohmann::json;
+
+/// Bumped whenever a key's content or spelling changes, so old cache entries stop matching.
+constexpr int key_version = 1;
+
+Json vector_json(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
+
+/// The mesh by content and format, never by path.
+Json mesh_json(const ObjectDescription& object) {
+  std::string extension = object.mesh_path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](char c) {
+    return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  });
+  return {{"xxh3", file_hash_hex(object.mesh_path)}, {"extension", extension}};
+}
+
+/// How the body frame is made from the file's coordinates.
+Json geometry_json(const ObjectDescription& object) {
+  Json geometry = {{"centre", object.centre}};
+  if (object.size) {
+    geometry["size"] = *object.size;
+  } else {
+    geometry["scale"] = object.scale;
+  }
+  return geometry;
+}
+
+Json field_json(const FieldDescription& field) {
+  Json result = {{"cells", field.cells},
+                 {"box_expansion", field.box_expansion},
+                 {"exact_band", field.exact_band},
+                 {"soup", field.soup}};
+  if (field.soup) result["offset"] = field.offset;
+  return result;
+}
+
+Json schedule_json(const contact::LevelSchedule& schedule) {
+  return {{"first_level_size", schedule.first_level_size},
+          {"growth", schedule.growth},
+          {"max_levels", schedule.max_levels}};
+}
+
+Json pointshell_json(const ObjectDescription& object) {
+  const PointshellDescription& shell = object.pointshell;
+  Json result = {{"method", detail::name_of(shell.method, detail::pointshell_methods)},
+                 {"seed", shell.seed}};
+  switch (shell.method) {
+    case PointshellMethod::repulsion:
+      result["first_level_points"] = shell.first_level_points;
+      result["levels"] = shell.levels;
+      result["max_iterations"] = shell.max_iterations;
+      result["tolerance"] = shell.tolerance;
+      result["radius_factor"] = shell.radius_factor;
+      result["field"] = field_json(object.field);  // the level set the points lie on
+      break;
+    case PointshellMethod::vertices:
+      result["schedule"] = schedule_json(shell.schedule);
+      break;
+    case PointshellMethod::random:
+      result["points"] = shell.count;
+      result["schedule"] = schedule_json(shell.schedule);
+      break;
+    case PointshellMethod::voxels:
+      result["cell_size"] = shell.cell_size;
+      result["schedule"] = schedule_json(shell.schedule);
+      break;
+  }
+  return result;
+}
+
+Json meshing_json(const MeshingDescription& meshing) {
+  Json result = {{"method", detail::name_of(meshing.method, detail::meshing_methods)}};
+  if (meshing.method == MeshingMethod::voxels) {
+    result["resolution"] = meshing.voxels.resolution;
+    result["enlargement"] = meshing.voxels.enlargement;
+    result["fill_interior"] = meshing.voxels.fill_interior;
+  } else {
+    const reduced::TetrahedralizeOptions& tets = meshing.tetrahedra;
+    result["facet_size"] = tets.facet_size;
+    result["facet_distance"] = tets.facet_distance;
+    result["facet_angle"] = tets.facet_angle;
+    result["cell_size"] = tets.cell_size;
+    result["cell_radius_edge_ratio"] = tets.cell_radius_edge_ratio;
+    result["seed"] = tets.seed;
+    result["sliver_bound"] = tets.sliver_bound;
+    result["perturb"] = tets.perturb;
+    result["exude"] = tets.exude;
+  }
+  return result;
+}
+
+Json anchors_json(const std::vector<AnchorRegion>& anchors) {
+  Json result = Json::array();
+  for (const AnchorRegion& anchor : anchors) {
+    if (anchor.kind == AnchorRegion::Kind::box) {
+      result.push_back(
+          {{"type", "box"}, {"min", vector_json(anchor.min)}, {"max", vector_json(anchor.max)}});
+    } else {
+      result.push_back({{"type", "half_space"},
+                        {"point", vector_json(anchor.point)},
+                        {"normal", vector_json(anchor.normal)}});
+    }
+  }
+  return result;
+}
+
+Json basis_json(const BasisDescription& basis) {
+  Json result = {{"method", detail::name_of(basis.method, detail::basis_methods)},
+                 {"r", basis.basis_size}};
+  if (basis.method == BasisMethod::modes) {
+    result["k"] = basis.num_modes;
+    result["modal_derivatives"] = basis.modal_derivatives;
+    result["mass"] = detail::name_of(basis.mass, detail::mass_lumpings);
+    result["tolerance"] = basis.tolerance;
+    result["max_restarts"] = basis.max_restarts;
+    if (basis.modal_derivatives)
+      result["metric"] = detail::name_of(basis.metric, detail::pca_metrics);
+    return result;
+  }
+  result["loads"] = file_hash_hex(basis.loads_path);
+  result["metric"] = detail::name_of(basis.metric, detail::pca_metrics);
+  result["rank_tolerance"] = basis.rank_tolerance;
+  if (basis.method == BasisMethod::sketch) {
+    result["force_separation"] = basis.force_separation;
+    result["force_kernel_width"] = basis.force_kernel_width;
+    result["deformation_separation"] = basis.deformation_separation;
+    result["deformation_kernel_width"] = basis.deformation_kernel_width;
+    result["static_solve"] = {{"load_steps", basis.static_solve.load_steps},
+                              {"max_iterations", basis.static_solve.max_iterations},
+                              {"tolerance", basis.static_solve.tolerance},
+                              {"line_search", basis.static_solve.line_search}};
+    result["skip_failed_solves"] = basis.skip_failed_solves;
+  } else {
+    const SimulationRunDescription& run = basis.simulation;
+    result["simulation"] = {{"hold_steps", run.hold_steps},
+                            {"release_steps", run.release_steps},
+                            {"snapshot_every", run.snapshot_every},
+                            {"time_step", run.time_step},
+                            {"max_newton_iterations", run.max_newton_iterations},
+                            {"mass_damping", run.mass_damping},
+                            {"stiffness_damping", run.stiffness_damping}};
+    result["fixed_tolerance"] = basis.fixed_tolerance;
+  }
+  return result;
+}
+
+Json model_json(const ModelDescription& model) {
+  return {{"meshing", meshing_json(model.meshing)},
+          {"material",
+           {{"young_modulus", model.material.young_modulus},
+            {"poisson_ratio", model.material.poisson_ratio},
+            {"density", model.material.density}}},
+          {"anchors", anchors_json(model.anchors)},
+          {"basis", basis_json(model.basis)}};
+}
+
+/// The key of one product as JSON (point trees nest the keys of their two inputs).
+Json key_json(const ObjectDescription& object, Product product) {
+  if (!needs_product(object, product)) {
+    throw reduced::Error("content_key: object \"" + object.name + "\" has no " +
+                         std::string(product_name(product)));
+  }
+  Json key = {{"key_version", key_version}, {"product", product_name(product)}};
+  switch (product) {
+    case Product::distance_field:
+      key["mesh"] = mesh_json(object);
+      key["geometry"] = geometry_json(object);
+      key["field"] = field_json(object.field);
+      break;
+    case Product::pointshell:
+      key["mesh"] = mesh_json(object);
+      key["geometry"] = geometry_json(object);
+      key["pointshell"] = pointshell_json(object);
+      break;
+    case Product::reduced_model:
+      key["mesh"] = mesh_json(object);
+      key["geometry"] = geometry_json(object);
+      key["model"] = model_json(object.model);
+      break;
+    case Product::point_tree:
+      key["pointshell"] = key_json(object, Product::pointshell);
+      key["reduced_model"] = key_json(object, Product::reduced_model);
+      break;
+  }
+  return key;
+}
+
+std::string hex(XXH64_hash_t hash) {
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+
+}  // namespace
+
+std::string_view product_name(Product product) noexcept {
+  switch (product) {
+    case Product::distance_field:
+      return "distance_field";
+    case Product::pointshell:
+      return "pointshell";
+    case Product::reduced_model:
+      return "reduced_model";
+    case Product::point_tree:
+      return "point_tree";
+  }
+  return "?";
+}
+
+bool needs_product(const ObjectDescription& object, Product product) noexcept {
+  switch (product) {
+    case Product::distance_field:
+      return object.uses_field();
+    case Product::pointshell:
+      return object.roles.pointshell;
+    case Product::reduced_model:
+      return object.is_reduced();
+    case Product::point_tree:
+      return object.roles.pointshell && object.is_reduced();
+  }
+  return false;
+}
+
+std::string content_key(const ObjectDescription& object, Product product) {
+  return key_json(object, product).dump();
+}
+
+std::string hash_hex(std::string_view text) { return hex(XXH3_64bits(text.data(), text.size())); }
+
+std::string file_hash_hex(const std::filesystem::path& file) {
+  std::ifstream stream(file, std::ios::binary);
+  if (!stream) throw reduced::IoError("cannot read " + file.string() + " to hash it");
+  const std::string bytes((std::istreambuf_iterator<char>(stream)),
+                          std::istreambuf_iterator<char>());
+  if (stream.bad()) throw reduced::IoError("cannot read " + file.string() + " to hash it");
+  return hash_hex(bytes);
+}
+
+}  // namespace khz::scene

@@ -1,0 +1,351 @@
+#include <khz/scene/read_scene.hpp>
+
+#include "json_reader.hpp"
+#include "names.hpp"
+#include "read_common.hpp"
+#include "read_device.hpp"
+#include "read_object.hpp"
+
+#include <array>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+namespace khz::scene {
+namespace {
+
+using detail::in_quotes;
+using detail::Json;
+using detail::Location;
+using detail::ObjectReader;
+using detail::ReadContext;
+
+std::string role_name(contact::HapticObject role) {
+  return in_quotes(detail::name_of(role, detail::role_names));
+}
+
+contact::HapticObject other_role(contact::HapticObject role) {
+  return role == contact::HapticObject::pointshell ? contact::HapticObject::distance_field
+                                                   : contact::HapticObject::pointshell;
+}
+
+bool has_role(const ObjectDescription& object, contact::HapticObject role) {
+  return role == contact::HapticObject::pointshell ? object.roles.pointshell
+                                                   : object.roles.distance_field;
+}
+
+std::string roles_text(const ObjectDescription& object) {
+  if (object.roles.pointshell && object.roles.distance_field) {
+    return "\"pointshell\" and \"distance_field\"";
+  }
+  return object.roles.pointshell ? "\"pointshell\"" : "\"distance_field\"";
+}
+
+void read_loop(const ObjectReader& root, SceneDescription& scene) {
+  const auto loop =
+      root.object("loop", {"rate_hz", "duration", "realtime_priority", "priority", "cpu"},
+                  {{"rate", "rate_hz"}, {"frequency", "rate_hz"}});
+  if (!loop) return;
+  haptic::LoopOptions& options = scene.loop;
+  options.rate_hz = loop->number("rate_hz", options.rate_hz, detail::open_closed(0.0, 100000.0));
+  scene.duration = loop->number("duration", scene.duration, detail::at_least(0.0));
+  options.realtime_priority = loop->boolean("realtime_priority", options.realtime_priority);
+  options.priority = loop->integer("priority", options.priority, detail::closed(1, 99));
+  options.cpu = loop->integer("cpu", options.cpu, detail::at_least(-1));
+}
+
+void read_objects(const ObjectReader& root, const ReadContext& context, SceneDescription& scene) {
+  const Json& objects = root.required("objects", "the scene's objects");
+  const Location at = root.at("objects");
+  if (!objects.is_array() || objects.empty()) {
+    at.expected("a non-empty array of objects [{...}]", objects);
+  }
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    scene.objects.push_back(detail::read_object(objects[i], at.element(i), context));
+    for (std::size_t j = 0; j < i; ++j) {
+      if (scene.objects[j].name == scene.objects[i].name) {
+        at.element(i).child("name").fail("duplicate object name " +
+                                         in_quotes(scene.objects[i].name) + " (objects[" +
+                                         std::to_string(j) + "] has it too)");
+      }
+    }
+  }
+}
+
+/// The held object, its role, and that every other object touches it.
+void read_haptic(const ObjectReader& root, SceneDescription& scene) {
+  const ObjectReader haptic(root.required("haptic", "the held object and its grasp point"),
+                            root.at("haptic"), {"object", "role", "grasp_point"},
+                            {{"name", "object"}, {"grasp", "grasp_point"}});
+  HapticDescription& result = scene.haptic;
+  result.object = haptic.required_string("object", "the name of the object the user holds");
+  std::vector<std::string_view> names;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    names.push_back(scene.objects[i].name);
+    if (scene.objects[i].name == result.object) result.object_index = static_cast<int>(i);
+  }
+  if (result.object_index < 0) {
+    std::string message = "no object is named " + in_quotes(result.object);
+    if (const auto match = detail::closest_match(result.object, names)) {
+      message += "; did you mean " + in_quotes(*match) + "?";
+    } else {
+      message += " (the objects are";
+      for (std::size_t i = 0; i < names.size(); ++i) {
+        message += (i > 0 ? ", " : " ") + in_quotes(names[i]);
+      }
+      message += ")";
+    }
+    haptic.fail("object", message);
+  }
+  const ObjectDescription& held = scene.haptic_object();
+  const std::string held_text =
+      "object " + in_quotes(held.name) + " (objects[" + std::to_string(result.object_index) + "])";
+  result.role = held.roles.distance_field ? contact::HapticObject::distance_field
+                                          : contact::HapticObject::pointshell;
+  if (haptic.has("role")) {
+    result.role = detail::to_choice(haptic.value("role"), haptic.at("role"), detail::role_names);
+    if (!has_role(held, result.role)) {
+      haptic.fail("role", held_text + " has no " + role_name(result.role) +
+                              " role (its roles: " + roles_text(held) + ")");
+    }
+  }
+  if (haptic.has("grasp_point")) {
+    const Json& grasp = haptic.value("grasp_point");
+    if (grasp.is_string()) {
+      const std::array<std::string_view, 1> centre{"centre"};
+      if (grasp.get_ref<const std::string&>() != "centre") {
+        detail::fail_choice(grasp, haptic.at("grasp_point"), centre);
+      }
+    } else {
+      if (!grasp.is_array()) {
+        haptic.at("grasp_point").expected("\"centre\" or a body-frame point [x, y, z] in m", grasp);
+      }
+      result.grasp_at_centre = false;
+      result.grasp_point = detail::to_vector3(grasp, haptic.at("grasp_point"));
+    }
+  }
+  // The held object touches the others through the other role.
+  const contact::HapticObject needed = other_role(result.role);
+  bool touches = false;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    if (static_cast<int>(i) == result.object_index) continue;
+    const ObjectDescription& other = scene.objects[i];
+    if (!has_role(other, needed)) {
+      root.at("objects").element(i).child("roles").fail(
+          "object " + in_quotes(other.name) + " touches nothing: the held object " +
+          in_quotes(held.name) + " plays " + role_name(result.role) +
+          ", so the other objects need the " + role_name(needed) + " role");
+    }
+    touches = true;
+  }
+  if (!touches) {
+    haptic.fail("object", "the held " + held_text + " plays " + role_name(result.role) +
+                              ", but there is no other object with the " + role_name(needed) +
+                              " role for it to touch");
+  }
+}
+
+void read_contact(const ObjectReader& root, SceneDescription& scene) {
+  contact::ContactOptions& options = scene.contact;
+  options.haptic_object = scene.haptic.role;
+  const auto contact = root.object(
+      "contact",
+      {"stiffness", "scaling_count", "max_level", "gradient", "degradation", "coherence"},
+      {{"haptic_object", "haptic.role"}, {"temporal_coherence", "coherence"}});
+  if (!contact) return;
+  options.stiffness = contact->number("stiffness", options.stiffness, detail::above(0.0));
+  options.scaling_count =
+      contact->number("scaling_count", options.scaling_count, detail::above(0.0));
+  options.max_level = contact->integer("max_level", options.max_level, detail::at_least(-1));
+  options.gradient = contact->choice("gradient", options.gradient, detail::contact_gradients);
+  if (const auto degradation = contact->object(
+          "degradation",
+          {"mode", "warm_threshold", "budget_microseconds", "cold_fraction", "contact_weight"},
+          {{"budget", "budget_microseconds"}, {"threshold", "warm_threshold"}})) {
+    contact::DegradationOptions& d = options.degradation;
+    using Mode = contact::DegradationOptions::Mode;
+    d.mode = degradation->choice("mode", d.mode, detail::degradation_modes);
+    const std::string mode = in_quotes(detail::name_of(d.mode, detail::degradation_modes));
+    if (d.mode != Mode::node_count) {
+      degradation->refuse({"warm_threshold"}, "mode \"node_count\" (mode is " + mode + ")");
+    }
+    if (d.mode != Mode::time_budget) {
+      degradation->refuse({"budget_microseconds"}, "mode \"time_budget\" (mode is " + mode + ")");
+    }
+    if (d.mode == Mode::none) {
+      degradation->refuse({"cold_fraction", "contact_weight"},
+                          "modes \"node_count\" and \"time_budget\" (mode is \"none\")");
+    }
+    d.warm_threshold = degradation->number("warm_threshold", d.warm_threshold, detail::above(0.0));
+    d.budget_microseconds =
+        degradation->number("budget_microseconds", d.budget_microseconds, detail::above(0.0));
+    d.cold_fraction =
+        degradation->number("cold_fraction", d.cold_fraction, detail::open_closed(0.0, 1.0));
+    d.contact_weight =
+        degradation->number("contact_weight", d.contact_weight, detail::at_least(0.0));
+  }
+  if (const auto coherence =
+          contact->object("coherence", {"enabled", "max_translation", "max_rotation",
+                                        "max_deformation", "max_field_deformation", "max_skip"})) {
+    contact::CoherenceOptions& c = options.coherence;
+    c.enabled = coherence->boolean("enabled", c.enabled);
+    if (!c.enabled) {
+      coherence->refuse({"max_translation", "max_rotation", "max_deformation",
+                         "max_field_deformation", "max_skip"},
+                        "enabled temporal coherence (\"enabled\": true)");
+    }
+    c.max_translation =
+        coherence->number("max_translation", c.max_translation, detail::at_least(0.0));
+    c.max_rotation = coherence->number("max_rotation", c.max_rotation, detail::at_least(0.0));
+    c.max_deformation =
+        coherence->number("max_deformation", c.max_deformation, detail::at_least(0.0));
+    c.max_field_deformation =
+        coherence->number("max_field_deformation", c.max_field_deformation, detail::at_least(0.0));
+    c.max_skip = coherence->integer("max_skip", c.max_skip, detail::closed(1, 1 << 20));
+  }
+}
+
+void read_coupling(const ObjectReader& root, SceneDescription& scene) {
+  haptic::CouplingOptions& options = scene.coupling;
+  options.period = 1.0 / scene.loop.rate_hz;
+  const auto coupling = root.object(
+      "coupling",
+      {"stiffness", "torque_stiffness", "static_damping", "max_speed", "max_angular_speed",
+       "saturation_force", "object_radius", "max_rendered_force", "max_rendered_torque",
+       "device_max_stiffness", "degenerate_threshold", "rotation_length"},
+      {{"period", "loop.rate_hz"}, {"damping", "static_damping"}});
+  if (!coupling) return;
+  const detail::Bounds positive = detail::above(0.0);
+  options.stiffness = coupling->number("stiffness", options.stiffness, positive);
+  options.torque_stiffness =
+      coupling->number("torque_stiffness", options.torque_stiffness, positive);
+  options.static_damping =
+      coupling->number("static_damping", options.static_damping, detail::half_open(0.0, 1.0));
+  options.max_speed = coupling->number("max_speed", options.max_speed, positive);
+  options.max_angular_speed =
+      coupling->number("max_angular_speed", options.max_angular_speed, positive);
+  options.saturation_force =
+      coupling->number("saturation_force", options.saturation_force, positive);
+  options.object_radius = coupling->number("object_radius", options.object_radius, positive);
+  options.max_rendered_force =
+      coupling->number("max_rendered_force", options.max_rendered_force, positive);
+  options.max_rendered_torque =
+      coupling->number("max_rendered_torque", options.max_rendered_torque, positive);
+  options.device_max_stiffness =
+      coupling->number("device_max_stiffness", options.device_max_stiffness, positive);
+  options.degenerate_threshold = coupling->number(
+      "degenerate_threshold", options.degenerate_threshold, detail::open_interval(0.0, 1.0));
+  options.rotation_length =
+      coupling->number("rotation_length", options.rotation_length, detail::at_least(0.0));
+  if (options.stiffness > options.device_max_stiffness) {
+    coupling->fail("stiffness",
+                   "expected at most device_max_stiffness = " +
+                       detail::format_number(options.device_max_stiffness) +
+                       " N/m (k_VC bounds the stiffness the device renders, thesis §4.7), got " +
+                       detail::format_number(options.stiffness));
+  }
+}
+
+/// The library's own checks of what the scene maps onto, after the reader's: a failure here
+/// means the reader missed a rule, and still names the block.
+template <typename Options>
+void check_with_library(const Options& options, const Location& at) {
+  try {
+    options.validate();
+  } catch (const reduced::Error& error) {
+    at.fail(error.what());
+  }
+}
+
+SceneDescription parse(std::string_view text, const ReadContext& context) {
+  const Json json = detail::parse_json(text, context.source);
+  const ObjectReader root(
+      json, Location{context.source, {}},
+      {"version", "description", "objects", "haptic", "contact", "coupling", "device", "loop"});
+  SceneDescription scene;
+  scene.source = context.source;
+  scene.base_directory = context.base_directory;
+  if (root.has("version") && !(root.value("version") == 1)) {
+    root.at("version").expected("1 (the only scene format version so far)", root.value("version"));
+  }
+  if (root.has("description")) {
+    const Json& description = root.value("description");
+    if (!description.is_string()) root.at("description").expected("a string", description);
+    scene.description = description.get<std::string>();
+  }
+  read_loop(root, scene);
+  ReadContext derived = context;
+  derived.rate_hz = scene.loop.rate_hz;
+  read_objects(root, derived, scene);
+  read_haptic(root, scene);
+  read_contact(root, scene);
+  read_coupling(root, scene);
+  scene.device = detail::read_device(root.has("device") ? &root.value("device") : nullptr,
+                                     root.at("device"), derived);
+  check_with_library(scene.loop, root.at("loop"));
+  check_with_library(scene.contact, root.at("contact"));
+  check_with_library(scene.coupling, root.at("coupling"));
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    if (scene.objects[i].is_reduced()) {
+      check_with_library(scene.objects[i].model.integrator,
+                         root.at("objects").element(i).child("model").child("integrator"));
+    }
+  }
+  return scene;
+}
+
+ReadContext make_context(const std::string& source, const std::filesystem::path& base,
+                         const SceneReadOptions& options) {
+  ReadContext context;
+  context.source = source;
+  context.base_directory = std::filesystem::absolute(base).lexically_normal();
+  context.cgal_mesh_dir =
+      options.cgal_mesh_dir.empty() ? default_cgal_mesh_dir() : options.cgal_mesh_dir;
+  context.check_files = options.check_files;
+  return context;
+}
+
+}  // namespace
+
+std::filesystem::path default_cgal_mesh_dir() {
+  if (const char* directory = std::getenv("KHZ_CGAL_MESH_DIR");
+      directory != nullptr && *directory != '\0') {
+    return directory;
+  }
+#ifdef KHZ_SCENE_CGAL_MESH_DIR
+  return KHZ_SCENE_CGAL_MESH_DIR;
+#else
+  return {};
+#endif
+}
+
+SceneDescription read_scene(const std::filesystem::path& file, const SceneReadOptions& options) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(file, error)) {
+    throw reduced::IoError(
+        "cannot read scene file " + file.string() +
+        (std::filesystem::exists(file, error) ? ": not a regular file" : ": no such file"));
+  }
+  std::ifstream stream(file, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(stream)),
+                         std::istreambuf_iterator<char>());
+  if (!stream && !stream.eof()) {
+    throw reduced::IoError("cannot read scene file " + file.string());
+  }
+  const std::filesystem::path base = options.base_directory.empty()
+                                         ? std::filesystem::absolute(file).parent_path()
+                                         : options.base_directory;
+  return parse(text, make_context(file.string(), base, options));
+}
+
+SceneDescription parse_scene(std::string_view text, const std::string& source,
+                             const SceneReadOptions& options) {
+  const std::filesystem::path base =
+      options.base_directory.empty() ? std::filesystem::current_path() : options.base_directory;
+  return parse(text, make_context(source, base, options));
+}
+
+}  // namespace khz::scene
