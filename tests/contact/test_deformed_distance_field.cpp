@@ -711,6 +711,52 @@ const Legs& legs() {
   return instance;
 }
 
+/// culling_distances() against culling_distance() at `x` (one of them made NaN) with
+/// thresholds of both signs.
+void expect_batch_equals_single(const DeformedFieldState& state, std::vector<Eigen::Vector3d> x,
+                                double spacing) {
+  x[13].y() = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> thresholds, batched(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    thresholds.push_back((static_cast<double>(i % 5) - 2.0) * spacing);
+  }
+  state.culling_distances(x, thresholds, batched);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (i == 13) {
+      EXPECT_TRUE(std::isnan(batched[i]));
+    } else {
+      EXPECT_EQ(batched[i], state.culling_distance(x[i], thresholds[i])) << "point " << i;
+    }
+  }
+}
+
+TEST(DeformedDistanceField, BatchedCullingEqualsOneAtATimeBitForBit) {
+  // 21 points (not a multiple of the 8 lanes): one domain of 40 proxies (the packed search), one
+  // of 100 (the general search), and two domains.
+  const Beam& s = beam();
+  DeformedFieldOptions many;
+  many.proxies = 100;
+  const DeformedDistanceField large({s.field.field(0)}, s.embedding, s.basis, many);
+  const Eigen::VectorXd q = 0.3 * s.direction;
+  const std::vector<Eigen::Vector3d> near_beam =
+      points_near(s.deformed_surface(q), 4 * s.spacing(), 21, 6);
+  for (const DeformedDistanceField* field : {&s.field, &large}) {
+    SCOPED_TRACE(std::to_string(field->num_proxies()) + " proxies");
+    DeformedFieldState state(*field);
+    ASSERT_TRUE(state.update(q));
+    expect_batch_equals_single(state, near_beam, s.spacing());
+  }
+  const Legs& l = legs();
+  DeformedFieldState apart(l.split);
+  ASSERT_TRUE(apart.update(Eigen::VectorXd::Constant(1, 0.2)));
+  std::vector<Eigen::Vector3d> near_legs;
+  for (int i = 0; i < 21; ++i) {
+    near_legs.emplace_back(-0.9 + 0.09 * i, 0.2 + 0.01 * i, 0.5);
+  }
+  SCOPED_TRACE("two domains");
+  expect_batch_equals_single(apart, near_legs, l.geometry.spacing);
+}
+
 TEST(DeformedDistanceField, ReportsProgressPerDomain) {
   const Legs& s = legs();
   const auto count = [&](const std::string& stage) {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -247,6 +248,17 @@ struct BlendStencil {
   BlendStencil(const StateView& s, Eigen::Index begin, Eigen::Index end, int k,
                const Eigen::Vector3d& x) noexcept {
     find_nearest(s, begin, end, k, x, neighbours);
+    set_up(s, k, x);
+  }
+  /// With the neighbours found already (find_nearest_batch()).
+  BlendStencil(const StateView& s, const Neighbours& nearest, int k,
+               const Eigen::Vector3d& x) noexcept
+      : neighbours(nearest) {
+    set_up(s, k, x);
+  }
+
+ private:
+  void set_up(const StateView& s, int k, const Eigen::Vector3d& x) noexcept {
     lookups = k - 1;
     d_min = std::sqrt(neighbours.squared[0]);
     d_max = std::sqrt(neighbours.squared[static_cast<std::size_t>(lookups)]);
@@ -514,9 +526,8 @@ namespace {
 /// d_i ≥ d_1 − slope ‖X_i − X_1‖₁ and Σ w_i d_i ≥ d_1 − slope Σ w_i ‖X_i − X_1‖₁ when every X_i
 /// lies in the box (convex, so the segments do too). The pull-backs agree closely wherever the
 /// deformation is smooth, so most culled points need one lookup instead of k − 1.
-double blend_above(const StateView& s, const DistanceGrid& grid, double slope, Eigen::Index begin,
-                   Eigen::Index end, int k, const Eigen::Vector3d& x, double threshold) noexcept {
-  const BlendStencil b(s, begin, end, k, x);
+double blend_above(const BlendStencil& b, const DistanceGrid& grid, double slope,
+                   double threshold) noexcept {
   const double first = grid.distance(b.pulled[0]);
   bool inside = grid.contains(b.pulled[0]);
   double spread = 0.0, farthest = 0.0;
@@ -540,6 +551,52 @@ double blend_above(const StateView& s, const DistanceGrid& grid, double slope, E
     result += b.weight[mm] * grid.distance(b.pulled[mm]);
   }
   return result * b.inverse_sum;
+}
+
+/// k nearest proxies of [begin, end) for up to 8 points at once, each point in one lane of the
+/// packed keys of find_nearest(): every proxy's key row is inserted into k sorted rows by
+/// compare-exchange, branch-free and with no pass waiting for the previous one's horizontal
+/// minimum. The same keys as find_nearest() give the same neighbours in the same order.
+/// Preconditions: end − begin ≤ 64, 1 ≤ count ≤ 8, every point finite.
+void find_nearest_batch(const StateView& s, Eigen::Index begin, Eigen::Index end, int k,
+                        const Eigen::Vector3d* x, int count, Neighbours* out) noexcept {
+  constexpr int lanes = 8, offset_bits = 6;
+  constexpr std::int64_t absent = std::numeric_limits<std::int64_t>::max();
+  constexpr std::int64_t offset_mask = (std::int64_t{1} << offset_bits) - 1;
+  const Eigen::Index size = end - begin;
+  // The squared distances as find_nearest() computes them, point by point.
+  alignas(64) std::array<std::array<double, 64>, lanes> d2;
+  for (int l = 0; l < count; ++l) {
+    squared_distances(s, begin, size, x[l], d2[static_cast<std::size_t>(l)].data());
+  }
+  std::array<KeyLanes, max_neighbours> best;
+  for (int m = 0; m < k; ++m) {
+    for (int l = 0; l < lanes; ++l) best[static_cast<std::size_t>(m)][l] = absent;
+  }
+  for (Eigen::Index b = 0; b < size; ++b) {
+    KeyLanes row;
+    for (int l = 0; l < lanes; ++l) {
+      std::int64_t bits = 0;
+      if (l < count) {
+        std::memcpy(&bits, &d2[static_cast<std::size_t>(l)][static_cast<std::size_t>(b)],
+                    sizeof bits);
+      }
+      row[l] = l < count ? ((bits & ~offset_mask) | b) : absent;
+    }
+    for (int m = 0; m < k; ++m) {
+      KeyLanes& kept = best[static_cast<std::size_t>(m)];
+      const KeyLanes lower = kept < row ? kept : row;
+      row = kept < row ? row : kept;
+      kept = lower;
+    }
+  }
+  for (int l = 0; l < count; ++l) {
+    for (int m = 0; m < k; ++m) {
+      const auto b = static_cast<std::size_t>(best[static_cast<std::size_t>(m)][l] & offset_mask);
+      out[l].squared[static_cast<std::size_t>(m)] = d2[static_cast<std::size_t>(l)][b];
+      out[l].index[static_cast<std::size_t>(m)] = begin + static_cast<Eigen::Index>(b);
+    }
+  }
 }
 
 /// The minimum over the domains of blend<with_gradient>(); `nearest` gets the minimizing
@@ -597,11 +654,65 @@ double DeformedFieldState::culling_distance(const Eigen::Vector3d& x,
   const DeformedDistanceField& field = *m_field;
   double best = std::numeric_limits<double>::infinity();
   for (Eigen::Index d = 0; d < field.num_domains(); ++d) {
-    best = std::min(best,
-                    blend_above(view, field.field(d), field.field_slope(d), field.domain_begin(d),
-                                field.domain_end(d), field.neighbours(), x, threshold));
+    const BlendStencil stencil(view, field.domain_begin(d), field.domain_end(d), field.neighbours(),
+                               x);
+    best = std::min(best, blend_above(stencil, field.field(d), field.field_slope(d), threshold));
   }
   return best;
+}
+
+void DeformedFieldState::culling_distances(std::span<const Eigen::Vector3d> x,
+                                           std::span<const double> thresholds,
+                                           std::span<double> out) const noexcept {
+  assert(thresholds.size() == x.size() && out.size() == x.size());
+  const std::size_t count = std::min({x.size(), thresholds.size(), out.size()});
+  const DeformedDistanceField& field = *m_field;
+  const StateView view{field.rest_positions().data(), m_positions.data(), m_inverse.data(),
+                       m_count};
+  const int k = field.neighbours();
+  constexpr int lanes = 8;
+  for (std::size_t first = 0; first < count; first += lanes) {
+    // The group's finite points; the others are NaN, as in culling_distance().
+    std::array<Eigen::Vector3d, lanes> points;
+    std::array<std::size_t, lanes> slot;
+    int used = 0;
+    for (std::size_t i = first; i < std::min<std::size_t>(first + lanes, count); ++i) {
+      const bool finite = x[i].allFinite();
+      out[i] = finite ? std::numeric_limits<double>::infinity()
+                      : std::numeric_limits<double>::quiet_NaN();
+      if (!finite) continue;
+      points[static_cast<std::size_t>(used)] = x[i];
+      slot[static_cast<std::size_t>(used++)] = i;
+    }
+    if (used == 0) continue;
+    for (Eigen::Index d = 0; d < field.num_domains(); ++d) {
+      const Eigen::Index begin = field.domain_begin(d), end = field.domain_end(d);
+      std::array<Neighbours, lanes> nearest;
+      if (end - begin <= 64) {
+        find_nearest_batch(view, begin, end, k, points.data(), used, nearest.data());
+      } else {
+        for (int l = 0; l < used; ++l) {
+          find_nearest(view, begin, end, k, points[static_cast<std::size_t>(l)],
+                       nearest[static_cast<std::size_t>(l)]);
+        }
+      }
+      // Every stencil first, each first lookup requested, so that the group's cache misses
+      // overlap; then the blends.
+      const DistanceGrid& grid = field.field(d);
+      std::array<std::optional<BlendStencil>, lanes> stencils;
+      for (int l = 0; l < used; ++l) {
+        const auto u = static_cast<std::size_t>(l);
+        stencils[u].emplace(view, nearest[u], k, points[u]);
+        grid.prefetch(stencils[u]->pulled[0]);
+      }
+      for (int l = 0; l < used; ++l) {
+        const auto u = static_cast<std::size_t>(l);
+        const std::size_t i = slot[u];
+        out[i] =
+            std::min(out[i], blend_above(*stencils[u], grid, field.field_slope(d), thresholds[i]));
+      }
+    }
+  }
 }
 
 Eigen::Index DeformedFieldState::nearest_proxy(const Eigen::Vector3d& x) const noexcept {

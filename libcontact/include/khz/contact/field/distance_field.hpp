@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include <concepts>
+#include <span>
 
 namespace khz::contact {
 
@@ -31,6 +32,17 @@ concept CullingDistanceField = DistanceField<Field> &&
     requires(const Field& field, const Eigen::Vector3d& p, double t) {
   { field.culling_distance(p, t) }
   noexcept->std::same_as<double>;
+};
+
+/// A CullingDistanceField that answers many culling questions at once, faster per point:
+/// culling_distances(x, t, out) sets out[i] = culling_distance(x[i], t[i]) for spans of equal
+/// size. noexcept, allocation-free, thread-safe.
+template <typename Field>
+concept BatchCullingDistanceField = CullingDistanceField<Field> &&
+    requires(const Field& field, std::span<const Eigen::Vector3d> x, std::span<const double> t,
+             std::span<double> out) {
+  { field.culling_distances(x, t, out) }
+  noexcept;
 };
 
 /// A distance field of a reduced deformable object (thesis §3.12), in its current deformation:

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <span>
 #include <utility>
 
 namespace khz::contact::detail {
@@ -244,11 +245,18 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
 
   Eigen::Vector3d batch_points[batch];        // pointshell body frame
   Eigen::Vector3d batch_field_points[batch];  // field body frame
+  // Fields that cull many points faster than one at a time get the batch's new points at once
+  // (only where no gradient comes with the value: a deformed field's costs as much again).
+  constexpr bool batch_culling = BatchCullingDistanceField<Field> && !gradient_with_value;
+  Eigen::Vector3d batch_lookup_points[batch];
+  double batch_radii[batch], batch_distances[batch];
+  int batch_slot[batch];
   for (int level = 0;; ++level) {
     const Eigen::Index first_new_point = shell.level_begin(level);
     Eigen::Index next_count = 0;
     for (Eigen::Index begin = 0; begin < current_count; begin += batch) {
       const Eigen::Index end = std::min(begin + batch, current_count);
+      [[maybe_unused]] int batch_count = 0;
       // Phase 1: the batch's new points in the field's frame, and the field memory their
       // lookups will read requested at once, so that the cache misses overlap rather than
       // follow one another; the next batch's modes too.
@@ -263,6 +271,16 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
         if constexpr (requires { field.prefetch(batch_field_points[0]); }) {
           field.prefetch(batch_field_points[k - begin]);
         }
+        if constexpr (batch_culling) {
+          batch_slot[k - begin] = batch_count;
+          batch_lookup_points[batch_count] = batch_field_points[k - begin];
+          batch_radii[batch_count++] = points.radius(n);
+        }
+      }
+      if constexpr (batch_culling) {
+        field.culling_distances(std::span(batch_lookup_points, batch_count),
+                                std::span<const double>(batch_radii, batch_count),
+                                std::span(batch_distances, batch_count));
       }
       // Phase 2: look up, cull, queue, and render contacts.
       for (Eigen::Index k = begin; k < end; ++k) {
@@ -287,6 +305,8 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
           // bound: the copies of its point are in its subtree, never read.
           if (exact_gradient && gradient_with_value) {
             d = field.distance_and_gradient(field_point, field_gradient);
+          } else if constexpr (batch_culling) {
+            d = batch_distances[batch_slot[k - begin]];
           } else if constexpr (CullingDistanceField<Field>) {
             d = field.culling_distance(field_point, radius);
           } else {
