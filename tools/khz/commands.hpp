@@ -13,6 +13,10 @@ void add_info_command(CLI::App& app);
 void add_convert_command(CLI::App& app);
 /// `khz repair IN OUT`: welds, drops degenerate triangles and orients a surface mesh.
 void add_repair_command(CLI::App& app);
+/// `khz prep SCENE [--cache DIR]`: prepares a scene's objects (scene::prepare_scene()) through
+/// the product cache, with progress bars on stderr and a table of what was computed or read, in
+/// how many seconds, on stdout.
+void add_prep_command(CLI::App& app);
 
 /// True if `path` names a volumetric mesh format (.msh, .node, .ele) rather than a surface.
 bool is_volume_mesh_file(const std::string& path);

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   khz::tool::add_info_command(app);
   khz::tool::add_convert_command(app);
   khz::tool::add_repair_command(app);
+  khz::tool::add_prep_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

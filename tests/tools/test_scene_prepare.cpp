@@ -1,0 +1,569 @@
+// Scene preparation: each object gets exactly the products its roles and model need, through the
+// product cache, so a second preparation computes nothing and reads the same bits, and a changed
+// setting recomputes only the products whose keys it enters.
+#include <khz/contact/field/deformed_distance_field.hpp>
+#include <khz/contact/query/contact_query.hpp>
+#include <khz/contact/query/contact_workspace.hpp>
+#include <khz/scene/body_mesh.hpp>
+#include <khz/scene/cache_directory.hpp>
+#include <khz/scene/prepare_scene.hpp>
+#include <khz/scene/read_scene.hpp>
+#include <khz/test/fixtures.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <optional>
+#include <set>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+namespace khz::scene {
+namespace {
+
+using Json = nlohmann::json;
+using Origin = PrepareRecord::Origin;
+
+/// Reads a scene given as JSON; meshes resolve against tests/data/scenes (cube.off: the unit
+/// cube [0, 1]³).
+SceneDescription scene_of(const Json& scene, bool check_files = true) {
+  SceneReadOptions options;
+  options.base_directory = test::test_file("scenes");
+  options.check_files = check_files;
+  return parse_scene(scene.dump(), "scene.json", options);
+}
+
+/// A rigid 10 cm cube (distance field, 16 cells) and a rigid 5 cm cube held against it (300
+/// random points in levels of 8, 32, …): neither needs the other's products.
+Json rigid_scene() {
+  return Json::parse(R"({
+    "objects": [
+      {"name": "wall", "mesh": "cube.off", "size": 0.1, "centre": true,
+       "roles": ["distance_field"], "field": {"cells": 16}},
+      {"name": "tool", "mesh": "cube.off", "size": 0.05, "centre": true, "roles": ["pointshell"],
+       "pointshell": {"method": "random", "points": 300, "first_level_points": 8, "growth": 4}}
+    ],
+    "haptic": {"object": "tool"}
+  })");
+}
+
+/// A reduced 8 cm cube with a repulsion pointshell (16 + 64 points on its 16-cell field; 4³
+/// voxels, bottom layer anchored, r = 4 from k = 3 modes and their derivatives) held against a
+/// reduced 10 cm cube used as a deformed distance field (4³ voxels, r = 3 linear modes, 12
+/// proxies).
+Json reduced_scene() {
+  return Json::parse(R"({
+    "objects": [
+      {"name": "tool", "mesh": "cube.off", "size": 0.08, "centre": true, "roles": ["pointshell"],
+       "model": {
+         "type": "reduced",
+         "meshing": {"method": "voxels", "resolution": 4, "fill_interior": true},
+         "material": {"young_modulus": 1e5, "poisson_ratio": 0.4, "density": 1000},
+         "anchors": [{"type": "box", "min": [-1, -1, -1], "max": [1, 1, -0.035]}],
+         "basis": {"method": "modes", "k": 3, "r": 4},
+         "integrator": {"mass_damping": 2.0}
+       },
+       "field": {"cells": 16},
+       "pointshell": {"method": "repulsion", "first_level_points": 16, "levels": 2}},
+      {"name": "wall", "mesh": "cube.off", "size": 0.1, "centre": true,
+       "roles": ["distance_field"],
+       "model": {
+         "type": "reduced",
+         "meshing": {"method": "voxels", "resolution": 4, "fill_interior": true},
+         "material": {"young_modulus": 1e5, "poisson_ratio": 0.4, "density": 1000},
+         "anchors": [{"type": "half_space", "point": [0, 0, -0.04], "normal": [0, 0, -1]}],
+         "basis": {"method": "modes", "k": 3, "modal_derivatives": false}
+       },
+       "field": {"cells": 16, "proxies": 12, "neighbours": 4}}
+    ],
+    "haptic": {"object": "tool"}
+  })");
+}
+
+/// An empty directory in the running test's scratch space (scratch_file() clears files, not
+/// directories).
+std::filesystem::path fresh_directory(const std::string& name) {
+  const std::filesystem::path directory = test::scratch_file(name + ".probe").parent_path() / name;
+  std::filesystem::remove_all(directory);
+  return directory;
+}
+
+std::filesystem::path fresh_cache() { return fresh_directory("cache"); }
+
+PreparedScene prepare(const Json& scene, const std::filesystem::path& cache_directory,
+                      const PrepareOptions& options = {}) {
+  ProductCache cache(cache_directory);
+  return prepare_scene(scene_of(scene), cache, options);
+}
+
+/// (object, step, origin) of every record, for comparing what a preparation did.
+using Done = std::tuple<std::string, PrepareStep, Origin>;
+std::vector<Done> done(const PreparedScene& prepared) {
+  std::vector<Done> result;
+  for (const PrepareRecord& r : prepared.records) result.emplace_back(r.object, r.step, r.origin);
+  return result;
+}
+
+/// The file names in the cache directory, sorted.
+std::vector<std::string> cache_files(const std::filesystem::path& directory) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(directory)) {
+    names.push_back(entry.path().filename().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+/// The extensions of the cache's files, sorted (one per product file).
+std::vector<std::string> cache_extensions(const std::filesystem::path& directory) {
+  std::vector<std::string> extensions;
+  for (const std::string& name : cache_files(directory)) {
+    extensions.push_back(std::filesystem::path(name).extension().string());
+  }
+  std::sort(extensions.begin(), extensions.end());
+  return extensions;
+}
+
+template <typename A, typename B>
+bool same_bits(const A& a, const B& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() && (a.array() == b.array()).all();
+}
+
+TEST(ScenePrepare, BodyFrameScalesBySizeOrScaleAndCentres) {
+  const reduced::TriangleMesh cube = read_body_mesh(scene_of(rigid_scene()).objects[0]);
+  EXPECT_TRUE(cube.vertices.colwise().minCoeff().isApprox(Eigen::RowVector3d::Constant(-0.05)));
+  EXPECT_TRUE(cube.vertices.colwise().maxCoeff().isApprox(Eigen::RowVector3d::Constant(0.05)));
+
+  ObjectDescription scaled = scene_of(rigid_scene()).objects[0];
+  scaled.size.reset();
+  scaled.scale = 2.0;
+  scaled.centre = false;
+  const reduced::TriangleMesh doubled = read_body_mesh(scaled);
+  EXPECT_EQ(doubled.vertices.colwise().minCoeff(), Eigen::RowVector3d::Zero());
+  EXPECT_EQ(doubled.vertices.colwise().maxCoeff(), Eigen::RowVector3d::Constant(2.0));
+  EXPECT_EQ(doubled.triangles, cube.triangles);
+}
+
+/// Sets an environment variable for the scope, restoring the previous value (or its absence).
+class ScopedVariable {
+ public:
+  ScopedVariable(const char* name, const char* value) : m_name(name) {
+    if (const char* previous = std::getenv(name)) m_previous = previous;
+    if (value != nullptr) {
+      ::setenv(name, value, 1);
+    } else {
+      ::unsetenv(name);
+    }
+  }
+  ~ScopedVariable() {
+    if (m_previous) {
+      ::setenv(m_name, m_previous->c_str(), 1);
+    } else {
+      ::unsetenv(m_name);
+    }
+  }
+  ScopedVariable(const ScopedVariable&) = delete;
+  ScopedVariable& operator=(const ScopedVariable&) = delete;
+
+ private:
+  const char* m_name;
+  std::optional<std::string> m_previous;
+};
+
+TEST(ScenePrepare, TheDefaultCacheFollowsTheXdgRules) {
+  {
+    const ScopedVariable xdg("XDG_CACHE_HOME", "/var/cache/me");
+    const ScopedVariable home("HOME", "/home/me");
+    EXPECT_EQ(default_cache_directory(), "/var/cache/me/kilohertz");
+  }
+  {
+    const ScopedVariable xdg("XDG_CACHE_HOME", "relative/ignored");
+    const ScopedVariable home("HOME", "/home/me");
+    EXPECT_EQ(default_cache_directory(), "/home/me/.cache/kilohertz");
+  }
+  {
+    const ScopedVariable xdg("XDG_CACHE_HOME", nullptr);
+    const ScopedVariable home("HOME", nullptr);
+    EXPECT_TRUE(default_cache_directory().empty());
+  }
+}
+
+TEST(ScenePrepare, RigidObjectsGetOnlyWhatTheirRolesNeed) {
+  const std::filesystem::path directory = fresh_cache();
+  const PreparedScene prepared = prepare(rigid_scene(), directory);
+
+  // The field object has no pointshell, the pointshell object no field (random points need
+  // none), and neither a model.
+  const std::vector<Done> expected{{"wall", PrepareStep::distance_field, Origin::computed},
+                                   {"tool", PrepareStep::pointshell, Origin::computed},
+                                   {"tool", PrepareStep::point_tree, Origin::built}};
+  EXPECT_EQ(done(prepared), expected);
+  EXPECT_EQ(cache_extensions(directory), (std::vector<std::string>{".khzsdf", ".khzshell"}));
+
+  ASSERT_EQ(prepared.objects.size(), 2U);
+  const PreparedObject& wall = prepared.objects[0];
+  const PreparedObject& tool = prepared.objects[1];
+  ASSERT_NE(wall.field, nullptr);
+  EXPECT_EQ(wall.field->geometry().cells, 16);
+  EXPECT_LT(wall.field->distance(Eigen::Vector3d::Zero()), -0.04);  // the cube's centre
+  EXPECT_EQ(wall.tree, nullptr);
+  EXPECT_EQ(wall.model, nullptr);
+  EXPECT_EQ(wall.deformed_field, nullptr);
+  ASSERT_NE(tool.tree, nullptr);
+  EXPECT_EQ(tool.tree->num_points(), 300);
+  EXPECT_GT(tool.tree->num_levels(), 2);
+  EXPECT_LE(tool.tree->pointshell().points.cwiseAbs().maxCoeff(), 0.025 + 1e-12);
+  EXPECT_EQ(tool.field, nullptr);
+  EXPECT_EQ(tool.model, nullptr);
+  EXPECT_EQ(tool.embedding, nullptr);
+  EXPECT_EQ(tool.deformable_tree, nullptr);
+  EXPECT_EQ(prepared.description.objects.size(), 2U);
+}
+
+TEST(ScenePrepare, ASecondRigidPreparationReadsTheSameBits) {
+  const std::filesystem::path directory = fresh_cache();
+  const PreparedScene first = prepare(rigid_scene(), directory);
+  ProductCache cache(directory);
+  const PreparedScene second = prepare_scene(scene_of(rigid_scene()), cache);
+  EXPECT_EQ(cache.computed_count(), 0);
+  EXPECT_EQ(second.count(Origin::computed), 0);
+  EXPECT_EQ(second.count(Origin::read), 2);
+
+  const auto first_values = first.objects[0].field->values();
+  const auto second_values = second.objects[0].field->values();
+  EXPECT_TRUE(std::equal(first_values.begin(), first_values.end(), second_values.begin(),
+                         second_values.end()));
+  EXPECT_TRUE(same_bits(first.objects[1].tree->pointshell().points,
+                        second.objects[1].tree->pointshell().points));
+  EXPECT_TRUE(same_bits(first.objects[1].tree->pointshell().normals,
+                        second.objects[1].tree->pointshell().normals));
+}
+
+TEST(ScenePrepare, ReducedObjectsGetAModelADeformableTreeAndADeformedField) {
+  const std::filesystem::path directory = fresh_cache();
+  PreparedScene prepared = prepare(reduced_scene(), directory);
+
+  const std::vector<Done> expected{
+      {"tool", PrepareStep::volume_mesh, Origin::computed},
+      {"tool", PrepareStep::reduced_model, Origin::computed},
+      {"tool", PrepareStep::distance_field, Origin::computed},  // the repulsion's level set
+      {"tool", PrepareStep::pointshell, Origin::computed},
+      {"tool", PrepareStep::point_tree, Origin::computed},
+      {"wall", PrepareStep::volume_mesh, Origin::computed},
+      {"wall", PrepareStep::reduced_model, Origin::computed},
+      {"wall", PrepareStep::distance_field, Origin::computed},
+      {"wall", PrepareStep::deformed_field, Origin::built}};
+  EXPECT_EQ(done(prepared), expected);
+  EXPECT_EQ(cache_extensions(directory),
+            (std::vector<std::string>{".khzmodel", ".khzmodel", ".khzsdf", ".khzsdf", ".khzshell",
+                                      ".khztree", ".msh", ".msh"}));
+  for (const PrepareRecord& record : prepared.records) {
+    EXPECT_EQ(record.file.empty(), record.origin == Origin::built);
+    if (!record.file.empty()) {
+      EXPECT_TRUE(std::filesystem::exists(record.file)) << record.file;
+      EXPECT_EQ(record.file.filename().string().rfind(std::string(step_name(record.step)), 0), 0U)
+          << record.file;
+    }
+  }
+
+  const PreparedObject& tool = prepared.objects[0];
+  const PreparedObject& wall = prepared.objects[1];
+  ASSERT_NE(tool.model, nullptr);
+  ASSERT_NE(tool.embedding, nullptr);
+  ASSERT_NE(tool.deformable_tree, nullptr);
+  EXPECT_EQ(tool.tree, nullptr);
+  EXPECT_EQ(tool.field, nullptr);  // the repulsion's field is not kept: no distance_field role
+  EXPECT_EQ(tool.model->dimension(), 4);
+  EXPECT_EQ(tool.model->basis().vectors.rows(), 3 * tool.embedding->mesh().num_vertices());
+  EXPECT_EQ(tool.embedding->mesh().num_elements(), 64);       // every voxel of the 4³ grid
+  EXPECT_EQ(tool.model->basis().fixed_vertices.size(), 25U);  // the bottom layer, 5 × 5
+  EXPECT_EQ(tool.model->defaults().newmark.mass_damping, 2.0);
+  EXPECT_EQ(tool.deformable_tree->dimension(), 4);
+  EXPECT_EQ(tool.deformable_tree->tree().num_points(), 16 + 64);
+  ASSERT_NE(wall.model, nullptr);
+  ASSERT_NE(wall.deformed_field, nullptr);
+  EXPECT_EQ(wall.field, nullptr);  // the deformed field holds it
+  EXPECT_EQ(wall.deformable_tree, nullptr);
+  EXPECT_EQ(wall.model->dimension(), 3);
+  EXPECT_EQ(wall.model->defaults().newmark.time_step, 1e-3);  // 1 / loop.rate_hz
+  EXPECT_EQ(wall.deformed_field->num_proxies(), 12);
+  EXPECT_EQ(wall.deformed_field->neighbours(), 4);
+
+  // One contact query: the deformed tool, its centre 8 cm from the wall's, overlaps it by 1 cm.
+  contact::DeformedFieldState field(*wall.deformed_field);
+  ASSERT_TRUE(field.update(Eigen::VectorXd::Constant(3, 1e-3)));
+  EXPECT_LT(field.distance(Eigen::Vector3d::Zero()), -0.04);
+  contact::ContactOptions options;
+  options.haptic_object = contact::HapticObject::pointshell;
+  contact::ContactWorkspace workspace(*tool.deformable_tree, options, 3);
+  contact::ContactFrames frames;
+  frames.pointshell.translation() = Eigen::Vector3d(0.08, 0.0, 0.0);
+  frames.grasp_point = Eigen::Vector3d(0.08, 0.0, 0.0);
+  const Eigen::VectorXd q = Eigen::VectorXd::Constant(4, 1e-3);
+  ASSERT_TRUE(contact::query_contact(*tool.deformable_tree, q, field, frames, workspace));
+  const contact::ContactResult& result = workspace.result();
+  EXPECT_TRUE(result.force.allFinite());
+  EXPECT_GT(result.force.x(), 0.0);  // pushed back out, along +x
+  ASSERT_EQ(result.pointshell_reduced_force.size(), 4);
+  EXPECT_TRUE(result.pointshell_reduced_force.allFinite());
+  ASSERT_EQ(result.field_reduced_force.size(), 3);
+  EXPECT_TRUE(result.field_reduced_force.allFinite());
+
+  // Moving the prepared scene leaves every product where it is: the state still refers to it.
+  const contact::DeformedDistanceField* address = wall.deformed_field.get();
+  const PreparedScene moved = std::move(prepared);
+  EXPECT_EQ(moved.objects[1].deformed_field.get(), address);
+  EXPECT_EQ(&field.field(), address);
+}
+
+TEST(ScenePrepare, ASecondReducedPreparationComputesNothingAndReadsTheSameBits) {
+  const std::filesystem::path directory = fresh_cache();
+  const PreparedScene first = prepare(reduced_scene(), directory);
+  ProductCache cache(directory);
+  const PreparedScene second = prepare_scene(scene_of(reduced_scene()), cache);
+  EXPECT_EQ(cache.computed_count(), 0);
+  // Everything is read, but the tool's field and pointshell: its tree holds the pointshell.
+  const std::vector<Done> expected{{"tool", PrepareStep::volume_mesh, Origin::read},
+                                   {"tool", PrepareStep::reduced_model, Origin::read},
+                                   {"tool", PrepareStep::point_tree, Origin::read},
+                                   {"wall", PrepareStep::volume_mesh, Origin::read},
+                                   {"wall", PrepareStep::reduced_model, Origin::read},
+                                   {"wall", PrepareStep::distance_field, Origin::read},
+                                   {"wall", PrepareStep::deformed_field, Origin::built}};
+  EXPECT_EQ(done(second), expected);
+
+  for (std::size_t i = 0; i < 2; ++i) {
+    SCOPED_TRACE(first.description.objects[i].name);
+    const PreparedObject& a = first.objects[i];
+    const PreparedObject& b = second.objects[i];
+    EXPECT_TRUE(same_bits(a.embedding->mesh().vertices, b.embedding->mesh().vertices));
+    EXPECT_TRUE(same_bits(a.embedding->mesh().elements, b.embedding->mesh().elements));
+    EXPECT_TRUE(same_bits(a.model->basis().vectors, b.model->basis().vectors));
+    EXPECT_EQ(a.model->basis().fixed_vertices, b.model->basis().fixed_vertices);
+    EXPECT_TRUE(same_bits(a.model->mass(), b.model->mass()));
+    EXPECT_EQ(a.model->defaults().newmark.mass_damping, b.model->defaults().newmark.mass_damping);
+  }
+  const contact::DeformablePointTree& tree_a = *first.objects[0].deformable_tree;
+  const contact::DeformablePointTree& tree_b = *second.objects[0].deformable_tree;
+  EXPECT_TRUE(same_bits(tree_a.tree().pointshell().points, tree_b.tree().pointshell().points));
+  for (Eigen::Index s = 0; s < tree_a.tree().num_points(); ++s) {
+    ASSERT_TRUE(same_bits(tree_a.displacement_modes(s), tree_b.displacement_modes(s))) << s;
+  }
+  const contact::DeformedDistanceField& field_a = *first.objects[1].deformed_field;
+  const contact::DeformedDistanceField& field_b = *second.objects[1].deformed_field;
+  const auto values_a = field_a.field(0).values();
+  const auto values_b = field_b.field(0).values();
+  EXPECT_TRUE(std::equal(values_a.begin(), values_a.end(), values_b.begin(), values_b.end()));
+  // The proxies are fitted again (not cached), from the same seed: the same field.
+  EXPECT_TRUE(same_bits(field_a.rest_positions(), field_b.rest_positions()));
+  EXPECT_TRUE(same_bits(field_a.displacement_matrix(), field_b.displacement_matrix()));
+}
+
+TEST(ScenePrepare, AChangedSettingRecomputesOnlyWhatDependsOnIt) {
+  const std::filesystem::path directory = fresh_cache();
+  prepare(reduced_scene(), directory);
+
+  // A pointshell setting: the pointshell (from the cached field) and the tree.
+  Json reseeded = reduced_scene();
+  reseeded["objects"][0]["pointshell"]["seed"] = 7;
+  {
+    ProductCache cache(directory);
+    const PreparedScene prepared = prepare_scene(scene_of(reseeded), cache);
+    const std::vector<Done> expected{{"tool", PrepareStep::volume_mesh, Origin::read},
+                                     {"tool", PrepareStep::reduced_model, Origin::read},
+                                     {"tool", PrepareStep::distance_field, Origin::read},
+                                     {"tool", PrepareStep::pointshell, Origin::computed},
+                                     {"tool", PrepareStep::point_tree, Origin::computed},
+                                     {"wall", PrepareStep::volume_mesh, Origin::read},
+                                     {"wall", PrepareStep::reduced_model, Origin::read},
+                                     {"wall", PrepareStep::distance_field, Origin::read},
+                                     {"wall", PrepareStep::deformed_field, Origin::built}};
+    EXPECT_EQ(done(prepared), expected);
+    EXPECT_EQ(cache.computed_count(), 2);
+  }
+
+  // A material: the model (with its volume mesh, stored under the model's key) and the tree;
+  // not the field or the pointshell.
+  Json stiffer = reduced_scene();
+  stiffer["objects"][0]["model"]["material"]["young_modulus"] = 2e5;
+  {
+    ProductCache cache(directory);
+    const PreparedScene prepared = prepare_scene(scene_of(stiffer), cache);
+    const std::vector<Done> expected{{"tool", PrepareStep::volume_mesh, Origin::computed},
+                                     {"tool", PrepareStep::reduced_model, Origin::computed},
+                                     {"tool", PrepareStep::pointshell, Origin::read},
+                                     {"tool", PrepareStep::point_tree, Origin::computed}};
+    const std::vector<Done> all = done(prepared);
+    EXPECT_EQ(std::vector<Done>(all.begin(), all.begin() + 4), expected);
+    EXPECT_EQ(cache.computed_count(), 3);
+  }
+
+  // The integrator, a name and a pose enter no key: nothing is computed, the defaults change.
+  Json renamed = reduced_scene();
+  renamed["objects"][0]["model"]["integrator"] = {{"mass_damping", 5.0}};
+  renamed["objects"][1]["name"] = "floor";
+  renamed["objects"][1]["pose"] = {{"position", {0.0, 0.0, -0.2}}};
+  {
+    ProductCache cache(directory);
+    const PreparedScene prepared = prepare_scene(scene_of(renamed), cache);
+    EXPECT_EQ(cache.computed_count(), 0);
+    EXPECT_EQ(prepared.objects[0].model->defaults().newmark.mass_damping, 5.0);
+    EXPECT_EQ(prepared.records.back().object, "floor");
+  }
+}
+
+TEST(ScenePrepare, ObjectsWithEqualInputsShareOneProduct) {
+  // The tool's repulsion field and the wall's field have the same inputs: one file, computed
+  // for the first and read for the second.
+  Json scene = rigid_scene();
+  scene["objects"][1] = {{"name", "tool"},
+                         {"mesh", "cube.off"},
+                         {"size", 0.1},
+                         {"centre", true},
+                         {"roles", {"pointshell"}},
+                         {"field", {{"cells", 16}}},
+                         {"pointshell", {{"first_level_points", 8}, {"levels", 2}}}};
+  const std::filesystem::path directory = fresh_cache();
+  const PreparedScene prepared = prepare(scene, directory);
+  const std::vector<Done> expected{{"wall", PrepareStep::distance_field, Origin::computed},
+                                   {"tool", PrepareStep::distance_field, Origin::read},
+                                   {"tool", PrepareStep::pointshell, Origin::computed},
+                                   {"tool", PrepareStep::point_tree, Origin::built}};
+  EXPECT_EQ(done(prepared), expected);
+  EXPECT_EQ(prepared.records[0].file, prepared.records[1].file);
+  EXPECT_EQ(cache_files(directory).size(), 2U);
+}
+
+TEST(ScenePrepare, EveryRecipeAndSamplingPrepares) {
+  // A sketch basis and a voxel pointshell on the tool, a simulation-data basis and a soup field
+  // on the wall, and a rigid post with a soup field and a repulsion pointshell on it.
+  Json scene = reduced_scene();
+  Json& tool = scene["objects"][0];
+  tool["model"]["basis"] = {{"method", "sketch"}, {"r", 3}, {"loads", "voxel_cube_loads.csv"}};
+  tool.erase("field");
+  tool["pointshell"] = {{"method", "voxels"}, {"cell_size", 0.02}, {"first_level_points", 4}};
+  Json& wall = scene["objects"][1];
+  wall["model"]["basis"] = {{"method", "simulation_data"},
+                            {"r", 3},
+                            {"loads", "voxel_cube_loads.csv"},
+                            {"simulation", {{"hold_steps", 1}, {"release_steps", 1}}}};
+  wall["field"]["soup"] = true;
+  scene["objects"].push_back(Json::parse(R"({
+    "name": "post", "mesh": "cube.off", "size": 0.1, "centre": true,
+    "roles": ["distance_field", "pointshell"],
+    "field": {"cells": 16, "soup": true},
+    "pointshell": {"method": "repulsion", "first_level_points": 8, "levels": 2}})"));
+
+  const std::filesystem::path directory = fresh_cache();
+  const PreparedScene prepared = prepare(scene, directory);
+  const std::vector<Done> expected{{"tool", PrepareStep::volume_mesh, Origin::computed},
+                                   {"tool", PrepareStep::reduced_model, Origin::computed},
+                                   {"tool", PrepareStep::pointshell, Origin::computed},
+                                   {"tool", PrepareStep::point_tree, Origin::computed},
+                                   {"wall", PrepareStep::volume_mesh, Origin::computed},
+                                   {"wall", PrepareStep::reduced_model, Origin::computed},
+                                   {"wall", PrepareStep::distance_field, Origin::computed},
+                                   {"wall", PrepareStep::deformed_field, Origin::built},
+                                   // the wall's soup field: the same inputs
+                                   {"post", PrepareStep::distance_field, Origin::read},
+                                   {"post", PrepareStep::pointshell, Origin::computed},
+                                   {"post", PrepareStep::point_tree, Origin::built}};
+  EXPECT_EQ(done(prepared), expected);
+
+  const PreparedObject& sketched = prepared.objects[0];
+  EXPECT_EQ(sketched.model->basis().recipe.rfind("sketch", 0), 0U)
+      << sketched.model->basis().recipe;
+  EXPECT_EQ(sketched.model->dimension(), 3);
+  EXPECT_GT(sketched.deformable_tree->tree().num_points(), 4);
+  const PreparedObject& simulated = prepared.objects[1];
+  EXPECT_EQ(simulated.model->basis().recipe.rfind("simulation data: 8 snapshots", 0), 0U)
+      << simulated.model->basis().recipe;
+  const contact::DeformedFieldState field(*simulated.deformed_field);
+  EXPECT_LT(field.distance(Eigen::Vector3d::Zero()), -0.04);
+  const PreparedObject& post = prepared.objects[2];
+  ASSERT_NE(post.field, nullptr);
+  EXPECT_TRUE(post.field->is_signed());
+  EXPECT_LT(post.field->distance(Eigen::Vector3d::Zero()), -0.04);
+  ASSERT_NE(post.tree, nullptr);
+  EXPECT_EQ(post.tree->num_points(), 8 + 32);
+  // On the offset surface, σ = 1.4 spacings outside the cube's faces.
+  const double sigma = 1.4 * post.field->geometry().spacing;
+  EXPECT_GT(post.tree->pointshell().points.cwiseAbs().rowwise().maxCoeff().minCoeff(),
+            0.05 + 0.5 * sigma);
+}
+
+TEST(ScenePrepare, ErrorsNameTheObjectAndStepAndNestTheCause) {
+  const std::filesystem::path directory = fresh_cache();
+  ProductCache cache(directory);
+
+  Json missing = rigid_scene();
+  missing["objects"][0]["mesh"] = "missing.off";
+  try {
+    prepare_scene(scene_of(missing, false), cache);
+    ADD_FAILURE() << "a missing mesh was prepared";
+  } catch (const PrepareError& error) {
+    EXPECT_EQ(error.object(), "wall");
+    EXPECT_EQ(error.step(), PrepareStep::distance_field);
+    EXPECT_NE(std::string(error.what()).find("object \"wall\": distance_field: "),
+              std::string::npos)
+        << error.what();
+    EXPECT_NE(error.cause().find("missing.off"), std::string::npos) << error.cause();
+    EXPECT_THROW(std::rethrow_if_nested(error), reduced::IoError);
+  }
+
+  Json unanchored = reduced_scene();
+  unanchored["objects"][1]["model"]["anchors"][0]["point"] = {0, 0, -1};
+  EXPECT_TRUE(test::throws_with_message<PrepareError>(
+      [&] { prepare_scene(scene_of(unanchored), cache); },
+      "object \"wall\": reduced_model: the anchors select none of the volume mesh's 125 "
+      "vertices"));
+  // Nothing half-written stays behind.
+  for (const std::string& name : cache_files(directory)) {
+    EXPECT_EQ(name.find(".partial"), std::string::npos) << name;
+  }
+}
+
+TEST(ScenePrepare, ProgressNamesObjectAndStepAndCanCancel) {
+  const std::filesystem::path directory = fresh_cache();
+  std::set<std::pair<std::string, PrepareStep>> reported;
+  std::set<std::string> stages;
+  PrepareOptions options;
+  options.progress = [&](const std::string& object, PrepareStep step,
+                         const reduced::Progress& progress) {
+    EXPECT_LE(progress.done, progress.total);
+    reported.emplace(object, step);
+    stages.emplace(progress.stage);
+    return true;
+  };
+  prepare(reduced_scene(), directory, options);
+  for (const auto& [object, step] : {std::pair{"tool", PrepareStep::volume_mesh},
+                                     {"tool", PrepareStep::reduced_model},
+                                     {"tool", PrepareStep::distance_field},
+                                     {"tool", PrepareStep::pointshell},
+                                     {"tool", PrepareStep::point_tree},
+                                     {"wall", PrepareStep::deformed_field}}) {
+    EXPECT_TRUE(reported.count({object, step})) << object << " " << step_name(step);
+  }
+  for (const char* stage :
+       {"voxelization", "linear modes", "modal derivatives", "reduced polynomials",
+        "distance field", "particle repulsion level 1", "proxy modes"}) {
+    EXPECT_TRUE(stages.count(stage)) << stage;
+  }
+
+  // Cancelling in the middle of the first product leaves no file, partial or complete.
+  const std::filesystem::path cancelled = fresh_directory("cancelled");
+  options.progress = [](const std::string&, PrepareStep, const reduced::Progress& progress) {
+    return progress.stage != "distance field" || progress.done == 0;
+  };
+  EXPECT_THROW(prepare(rigid_scene(), cancelled, options), reduced::Cancelled);
+  EXPECT_TRUE(cache_files(cancelled).empty());
+}
+
+}  // namespace
+}  // namespace khz::scene

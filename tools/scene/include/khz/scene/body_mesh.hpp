@@ -1,0 +1,25 @@
+#pragma once
+// An object's surface mesh in its body frame: the mesh file's coordinates scaled to metres and
+// optionally centred, as the scene describes (docs/SCENES.md, "Frames").
+
+#include <khz/reduced/mesh/triangle_mesh.hpp>
+#include <khz/scene/object_description.hpp>
+
+namespace khz::scene {
+
+/// `file_mesh` (in its file's units) moved into the object's body frame (m): every coordinate
+/// multiplied by the scale — `object.scale`, or with `object.size` the factor that makes the
+/// longest side of the mesh's bounding box `*object.size` — and then, with `object.centre`, the
+/// centre of the scaled bounding box subtracted. Triangles are kept as they are.
+/// @throws reduced::MeshError if `object.size` is set and the vertices all lie in one point
+///         (no side to scale), or the mesh has no vertices.
+reduced::TriangleMesh to_body_frame(reduced::TriangleMesh file_mesh,
+                                    const ObjectDescription& object);
+
+/// The object's surface mesh (object.mesh_path, format by extension) in its body frame
+/// (to_body_frame()).
+/// @throws reduced::IoError, ParseError or Error as reduced::read_triangle_mesh();
+///         reduced::MeshError as to_body_frame().
+reduced::TriangleMesh read_body_mesh(const ObjectDescription& object);
+
+}  // namespace khz::scene

@@ -1,0 +1,145 @@
+#include "product_builders.hpp"
+
+#include <khz/reduced/basis/force_load.hpp>
+#include <khz/reduced/basis/linear_modes.hpp>
+#include <khz/reduced/basis/modal_derivative_basis.hpp>
+#include <khz/reduced/basis/simulation_data_basis.hpp>
+#include <khz/reduced/basis/sketch_basis.hpp>
+#include <khz/reduced/solvers/full_newmark.hpp>
+#include <khz/reduced/stage_progress.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace khz::scene::detail {
+namespace {
+
+reduced::LinearModesOptions linear_modes_options(const BasisDescription& basis) {
+  reduced::LinearModesOptions options;
+  options.num_modes = basis.num_modes;
+  options.mass = basis.mass;
+  options.tolerance = basis.tolerance;
+  options.max_restarts = basis.max_restarts;
+  return options;
+}
+
+reduced::Basis modes_basis(const reduced::FemModel& fem, std::span<const int> fixed_vertices,
+                           const BasisDescription& basis,
+                           const reduced::ProgressCallback& progress) {
+  if (basis.modal_derivatives) {
+    reduced::ModalDerivativeBasisOptions options;
+    options.basis_size = basis.basis_size;
+    options.metric = basis.metric;
+    options.modes = linear_modes_options(basis);
+    options.progress = progress;
+    return reduced::modal_derivative_basis(fem, fixed_vertices, options);
+  }
+  reduced::LinearModesOptions options = linear_modes_options(basis);
+  options.progress = progress;
+  const reduced::LinearModes modes = reduced::compute_linear_modes(fem, fixed_vertices, options);
+  reduced::Basis result;
+  result.vectors = modes.modes.leftCols(basis.basis_size);
+  result.fixed_vertices = modes.fixed_vertices;
+  result.recipe = "linear modes: the first r=" + std::to_string(basis.basis_size) +
+                  " of k=" + std::to_string(basis.num_modes);
+  return result;
+}
+
+reduced::Basis sketch(const reduced::FemModel& fem, std::span<const int> fixed_vertices,
+                      const BasisDescription& basis, const reduced::ProgressCallback& progress,
+                      std::string& note) {
+  const std::vector<reduced::ForceLoad> loads =
+      reduced::read_force_loads(basis.loads_path, fem.mesh().num_vertices());
+  reduced::SketchBasisOptions options;
+  options.force_separation = basis.force_separation;
+  options.force_kernel_width = basis.force_kernel_width;
+  options.deformation_separation = basis.deformation_separation;
+  options.deformation_kernel_width = basis.deformation_kernel_width;
+  options.static_solve.load_steps = basis.static_solve.load_steps;
+  options.static_solve.max_iterations = basis.static_solve.max_iterations;
+  options.static_solve.tolerance = basis.static_solve.tolerance;
+  options.static_solve.line_search = basis.static_solve.line_search;
+  options.basis_size = basis.basis_size;
+  options.metric = basis.metric;
+  options.rank_tolerance = basis.rank_tolerance;
+  options.skip_failed_solves = basis.skip_failed_solves;
+  options.progress = progress;
+  reduced::SketchReport report;
+  reduced::Basis result = reduced::sketch_basis(fem, fixed_vertices, loads, options, report);
+  if (!report.failures.empty()) {
+    note = std::to_string(report.failures.size()) + " of " +
+           std::to_string(report.selected_loads.size()) + " static solves failed and were skipped";
+  }
+  return result;
+}
+
+/// The snapshots of basis.simulation (docs/SCENES.md): from rest, each load held for hold_steps
+/// steps and released for release_steps; the displacement after every snapshot_every-th step.
+Eigen::MatrixXd simulation_snapshots(const reduced::FemModel& fem,
+                                     std::span<const int> fixed_vertices,
+                                     const BasisDescription& basis,
+                                     const reduced::ProgressCallback& progress, std::string& note) {
+  const SimulationRunDescription& run = basis.simulation;
+  const std::vector<reduced::ForceLoad> loads =
+      reduced::read_force_loads(basis.loads_path, fem.mesh().num_vertices());
+  reduced::FullNewmarkOptions options;
+  options.newmark.time_step = run.time_step;
+  options.newmark.mass_damping = run.mass_damping;
+  options.newmark.stiffness_damping = run.stiffness_damping;
+  options.max_newton_iterations = run.max_newton_iterations;
+  reduced::FullNewmark simulation(fem, fixed_vertices, options);
+
+  const auto total_steps = static_cast<std::int64_t>(loads.size()) *
+                           (std::int64_t{run.hold_steps} + std::int64_t{run.release_steps});
+  reduced::StageProgress stage(progress, "full simulation", total_steps);
+  std::vector<Eigen::VectorXd> snapshots;
+  std::int64_t steps = 0;
+  std::int64_t unconverged = 0;
+  const auto step = [&](const Eigen::VectorXd& force) {
+    if (!simulation.step(force).converged) ++unconverged;
+    if (++steps % run.snapshot_every == 0) snapshots.push_back(simulation.displacement());
+    stage.advance();
+  };
+  const Eigen::VectorXd no_force = Eigen::VectorXd::Zero(fem.num_dofs());
+  for (const reduced::ForceLoad& load : loads) {
+    const Eigen::VectorXd force = load.to_vector(fem.mesh().num_vertices());
+    for (int i = 0; i < run.hold_steps; ++i) step(force);
+    for (int i = 0; i < run.release_steps; ++i) step(no_force);
+  }
+  stage.finish();
+  if (unconverged > 0) {
+    note = std::to_string(unconverged) + " of " + std::to_string(steps) +
+           " simulation steps did not converge within max_newton_iterations";
+  }
+  Eigen::MatrixXd matrix(fem.num_dofs(), static_cast<Eigen::Index>(snapshots.size()));
+  for (std::size_t i = 0; i < snapshots.size(); ++i) {
+    matrix.col(static_cast<Eigen::Index>(i)) = snapshots[i];
+  }
+  return matrix;
+}
+
+}  // namespace
+
+reduced::Basis compute_basis(const reduced::FemModel& fem, std::span<const int> fixed_vertices,
+                             const BasisDescription& basis,
+                             const reduced::ProgressCallback& progress, std::string& note) {
+  switch (basis.method) {
+    case BasisMethod::modes:
+      return modes_basis(fem, fixed_vertices, basis, progress);
+    case BasisMethod::sketch:
+      return sketch(fem, fixed_vertices, basis, progress, note);
+    case BasisMethod::simulation_data:
+      break;
+  }
+  const Eigen::MatrixXd snapshots =
+      simulation_snapshots(fem, fixed_vertices, basis, progress, note);
+  reduced::SimulationDataBasisOptions options;
+  options.metric = basis.metric;
+  options.rank_tolerance = basis.rank_tolerance;
+  options.fixed_tolerance = basis.fixed_tolerance;
+  options.progress = progress;
+  return reduced::simulation_data_basis(fem, fixed_vertices, snapshots, basis.basis_size, options);
+}
+
+}  // namespace khz::scene::detail

@@ -1,0 +1,64 @@
+#include "product_builders.hpp"
+
+#include <khz/reduced/errors.hpp>
+#include <khz/reduced/io/gmsh.hpp>
+#include <khz/reduced/meshing/tetrahedralize.hpp>
+#include <khz/reduced/meshing/voxelize.hpp>
+#include <khz/reduced/stage_progress.hpp>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+namespace khz::scene::detail {
+
+reduced::VolumeMesh compute_volume_mesh(const reduced::TriangleMesh& surface,
+                                        const MeshingDescription& meshing,
+                                        const reduced::ProgressCallback& progress) {
+  // Neither mesher reports progress; one stage of one unit says which one runs.
+  if (meshing.method == MeshingMethod::voxels) {
+    reduced::StageProgress stage(progress, "voxelization", 1);
+    reduced::VolumeMesh mesh = reduced::voxelize(surface, meshing.voxels);
+    stage.finish();
+    return mesh;
+  }
+  reduced::StageProgress stage(progress, "tetrahedralization", 1);
+  reduced::VolumeMesh mesh = reduced::tetrahedralize(surface, meshing.tetrahedra);
+  stage.finish();
+  return mesh;
+}
+
+void write_volume_mesh_file(const reduced::VolumeMesh& mesh, const std::filesystem::path& file) {
+  // format_gmsh() writes coordinates as the shortest text that reads back exactly, so the model
+  // file's mesh fingerprint still matches after a read.
+  const std::string text = reduced::format_gmsh(mesh);
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  out.close();
+  if (!out) throw reduced::IoError("cannot write the volume mesh " + file.string());
+}
+
+std::vector<int> anchored_vertices(const reduced::VolumeMesh& mesh,
+                                   const std::vector<AnchorRegion>& regions) {
+  std::vector<int> fixed;
+  if (regions.empty()) return fixed;
+  for (Eigen::Index v = 0; v < mesh.num_vertices(); ++v) {
+    const Eigen::Vector3d p = mesh.vertices.row(v).transpose();
+    if (std::any_of(regions.begin(), regions.end(),
+                    [&](const AnchorRegion& region) { return region.contains(p); })) {
+      fixed.push_back(static_cast<int>(v));
+    }
+  }
+  if (fixed.empty()) {
+    // An anchored object that silently came out free-floating would surprise: say where the
+    // vertices are, so the regions can be moved onto them.
+    std::ostringstream message;
+    message << "the anchors select none of the volume mesh's " << mesh.num_vertices()
+            << " vertices, which span [" << mesh.vertices.colwise().minCoeff() << "] to ["
+            << mesh.vertices.colwise().maxCoeff() << "] (body frame, m)";
+    throw reduced::Error(message.str());
+  }
+  return fixed;
+}
+
+}  // namespace khz::scene::detail
