@@ -5,6 +5,8 @@
 #include <khz/test/data_paths.hpp>
 #include <khz/test/fixtures.hpp>
 
+#include "scene_fixtures.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -18,11 +20,7 @@ namespace {
 
 using Json = nlohmann::json;
 
-SceneReadOptions test_options() {
-  SceneReadOptions options;
-  options.base_directory = test::test_file("scenes");
-  return options;
-}
+SceneReadOptions test_options() { return test_scenes::read_options(); }
 
 /// A reduced "tool" (pointshell and distance field, anchored) held against a rigid "wall".
 Json base_scene() {

@@ -14,6 +14,8 @@
 #include <khz/test/data_paths.hpp>
 #include <khz/test/fixtures.hpp>
 
+#include "scene_fixtures.hpp"
+
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
@@ -33,26 +35,13 @@ using Json = nlohmann::json;
 
 /// Relative paths in the scenes below resolve against tests/data/scenes (cube.off, loads.csv,
 /// press.csv).
-SceneReadOptions test_options() {
-  SceneReadOptions options;
-  options.base_directory = test::test_file("scenes");
-  return options;
-}
+SceneReadOptions test_options() { return test_scenes::read_options(); }
 
 SceneDescription parse(const Json& scene) {
   return parse_scene(scene.dump(2), "scene.json", test_options());
 }
 
-/// A pointshell "tool" held against a distance-field "wall", both the committed cube.
-Json minimal_scene() {
-  return Json::parse(R"({
-    "objects": [
-      {"name": "tool", "mesh": "cube.off", "roles": ["pointshell"]},
-      {"name": "wall", "mesh": "cube.off", "roles": ["distance_field"]}
-    ],
-    "haptic": {"object": "tool"}
-  })");
-}
+using test_scenes::minimal_scene;
 
 /// minimal_scene() with the tool a reduced model (material given, all else default).
 Json reduced_scene() {

@@ -4,6 +4,8 @@
 #include <khz/scene/scene_error.hpp>
 #include <khz/test/fixtures.hpp>
 
+#include "scene_fixtures.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -19,21 +21,12 @@ namespace {
 using Json = nlohmann::json;
 
 SceneReadOptions test_options() {
-  SceneReadOptions options;
-  options.base_directory = test::test_file("scenes");
+  SceneReadOptions options = test_scenes::read_options();
   options.cgal_mesh_dir = test::cgal_mesh("dino.off").parent_path();
   return options;
 }
 
-Json minimal_scene() {
-  return Json::parse(R"({
-    "objects": [
-      {"name": "tool", "mesh": "cube.off", "roles": ["pointshell"]},
-      {"name": "wall", "mesh": "cube.off", "roles": ["distance_field"]}
-    ],
-    "haptic": {"object": "tool"}
-  })");
-}
+using test_scenes::minimal_scene;
 
 /// minimal_scene() with the wall a reduced model.
 Json reduced_scene() {
