@@ -264,87 +264,74 @@ const kc::DistanceGrid& block_field() {
   return field;
 }
 
-// C: the block; the peg is 0.8 voxel wider
-// than the hole, turned 0.4° about the vertical and 0.3 voxel off-centre, lowered to 85 mm deep,
-// rocked, and pulled up to 30 mm.
+// A peg scene on the block: 400 poses lowering the peg from 20 mm above the block to 85 mm
+// deep, rocking it (`rock` is the rocking's phase, 0 outside it) and pulling it up to 30 mm.
+// `pose_at(bottom, rock)` turns and places the peg whose bottom is at height `bottom` (m).
+using PegPose = std::function<Eigen::Isometry3d(double bottom, double rock)>;
+Scene<kc::PointTree, kc::DistanceGrid> peg_scene(const std::string& name, const kc::PointTree& tree,
+                                                 const PegPose& pose_at) {
+  const kc::DistanceGrid& field = block_field();
+  Scene<kc::PointTree, kc::DistanceGrid> s;
+  s.name = name;
+  s.tree = &tree;
+  s.field = &field;
+  s.field_label = cube_label(field);
+  s.voxel = field.geometry().spacing;
+  const int poses = 400;
+  const Clock::time_point start = Clock::now();
+  for (int i = 0; i < poses; ++i) {
+    const double t = static_cast<double>(i) / (poses - 1);
+    const double bottom = block_top + 0.02 - 0.105 * ramp(t, 0.0, 0.7) + 0.055 * ramp(t, 0.85, 1.0);
+    const Eigen::Isometry3d pose =
+        pose_at(bottom, std::sin(4.0 * std::numbers::pi * ramp(t, 0.7, 0.85)));
+    s.trajectory.pointshell.push_back(pose);
+    s.trajectory.penetration.push_back(
+        std::max(0.0, -khz::bench::min_distance(khz::bench::RigidShape(tree), field, pose)));
+  }
+  khz::bench::precompute_log().push_back(
+      {name + " trajectory", khz::bench::seconds_since(start), false});
+  s.coherence = khz::bench::coherence_bounds(s.trajectory, tree, 0.0);
+  return s;
+}
+
+// C: the peg is 0.8 voxel wider than the hole, turned 0.4° about the vertical, 0.3 voxel
+// off-centre, and rocked by 0.05° about x.
 const Scene<kc::PointTree, kc::DistanceGrid>& scene_c() {
   static const auto scene = [] {
-    const double half_hole = 0.04;
-    const kc::DistanceGrid& field = block_field();
-    const double h = field.geometry().spacing;
+    const double h = block_field().geometry().spacing;
     static const kc::PointTree tree(khz::bench::cached_pointshell(
-        "peg", khz::bench::square_peg(half_hole + 0.4 * h, 0.14), false, 128, 769, 5));
-    Scene<kc::PointTree, kc::DistanceGrid> s;
-    s.name = "C peg in hole";
-    s.tree = &tree;
-    s.field = &field;
-    s.field_label = cube_label(field);
-    s.voxel = h;
-    const int poses = 400;
-    const Clock::time_point start = Clock::now();
-    for (int i = 0; i < poses; ++i) {
-      const double t = static_cast<double>(i) / (poses - 1);
-      const double bottom =
-          block_top + 0.02 - 0.105 * ramp(t, 0.0, 0.7) + 0.055 * ramp(t, 0.85, 1.0);
+        "peg", khz::bench::square_peg(0.04 + 0.4 * h, 0.14), false, 128, 769, 5));
+    return peg_scene("C peg in hole", tree, [h](double bottom, double rock) {
       Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-      pose.linear() =
-          rotation_about(Eigen::Vector3d::UnitZ(), 0.4 * degrees) *
-          rotation_about(Eigen::Vector3d::UnitX(),
-                         0.05 * degrees * std::sin(4.0 * std::numbers::pi * ramp(t, 0.7, 0.85)));
+      pose.linear() = rotation_about(Eigen::Vector3d::UnitZ(), 0.4 * degrees) *
+                      rotation_about(Eigen::Vector3d::UnitX(), 0.05 * degrees * rock);
       pose.translation() = Eigen::Vector3d(0.3 * h, 0.0, bottom);
-      s.trajectory.pointshell.push_back(pose);
-      s.trajectory.penetration.push_back(
-          std::max(0.0, -khz::bench::min_distance(khz::bench::RigidShape(tree), field, pose)));
-    }
-    khz::bench::precompute_log().push_back(
-        {"C trajectory", khz::bench::seconds_since(start), false});
-    s.coherence = khz::bench::coherence_bounds(s.trajectory, tree, 0.0);
-    return s;
+      return pose;
+    });
   }();
   return scene;
 }
 
-// F: C's block and a peg 4 mm narrower than the hole on each side, tilted 5° about y, pressed
-// against the hole's +x wall so that only its lowest edge digs in (0.5 voxel, a strip a few mm
-// tall): the usual contact of an assembly insertion. Lowered to 85 mm deep sliding along the
-// wall, rocked about x, pulled up to 30 mm.
+// F: a peg 4 mm narrower than the hole on each side, tilted 5° about y, pressed against the
+// hole's +x wall so that only its lowest edge digs in (0.5 voxel, a strip a few mm tall): the
+// usual contact of an assembly insertion. Rocked by 0.3° about x.
 const Scene<kc::PointTree, kc::DistanceGrid>& scene_f() {
   static const auto scene = [] {
     const double half_hole = 0.04, clearance = 0.004, tilt = 5.0 * degrees;
-    const kc::DistanceGrid& field = block_field();
-    const double h = field.geometry().spacing;
+    const double h = block_field().geometry().spacing;
     const double half_peg = half_hole - clearance;
     static const kc::PointTree tree(khz::bench::cached_pointshell(
         "narrow_peg", khz::bench::square_peg(half_peg, 0.14), false, 128, 769, 5));
-    Scene<kc::PointTree, kc::DistanceGrid> s;
-    s.name = "F peg edge on wall";
-    s.tree = &tree;
-    s.field = &field;
-    s.field_label = cube_label(field);
-    s.voxel = h;
-    const int poses = 400;
-    const Clock::time_point start = Clock::now();
-    // Turned by −tilt about y, the peg's lowest +x edge is its rightmost line, at x = a cos(tilt)
-    // plus the translation.
+    // Turned by −tilt about y, the peg's lowest +x edge is its rightmost line, at
+    // x = a cos(tilt) plus the translation.
     const double x = half_hole + 0.5 * h - half_peg * std::cos(tilt);
-    for (int i = 0; i < poses; ++i) {
-      const double t = static_cast<double>(i) / (poses - 1);
-      const double bottom =
-          block_top + 0.02 - 0.105 * ramp(t, 0.0, 0.7) + 0.055 * ramp(t, 0.85, 1.0);
+    return peg_scene("F peg edge on wall", tree, [x, tilt](double bottom, double rock) {
       Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-      pose.linear() =
-          rotation_about(Eigen::Vector3d::UnitX(),
-                         0.3 * degrees * std::sin(4.0 * std::numbers::pi * ramp(t, 0.7, 0.85))) *
-          rotation_about(Eigen::Vector3d::UnitY(), -tilt);
+      pose.linear() = rotation_about(Eigen::Vector3d::UnitX(), 0.3 * degrees * rock) *
+                      rotation_about(Eigen::Vector3d::UnitY(), -tilt);
       pose.translation() = Eigen::Vector3d(x, 0.0, bottom);
-      s.trajectory.pointshell.push_back(pose);
-      s.trajectory.penetration.push_back(
-          std::max(0.0, -khz::bench::min_distance(khz::bench::RigidShape(tree), field, pose)));
-    }
-    khz::bench::precompute_log().push_back(
-        {"F trajectory", khz::bench::seconds_since(start), false});
-    s.coherence = khz::bench::coherence_bounds(s.trajectory, tree, 0.0);
-    return s;
+      return pose;
+    });
   }();
   return scene;
 }
