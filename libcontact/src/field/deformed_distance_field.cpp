@@ -154,6 +154,28 @@ void find_nearest_by_insertion(const StateView& s, Eigen::Index begin, Eigen::In
 
 /// Eight 64-bit keys, one vector register (or two, or four, on narrower SIMD).
 using KeyLanes = std::int64_t __attribute__((vector_size(64)));
+constexpr int key_lanes = 8;
+
+/// The packed-key searches handle domains of up to this many proxies: a proxy's offset in its
+/// domain fits the key's low bits.
+constexpr int packed_key_bits = 6;
+constexpr Eigen::Index max_packed_proxies = Eigen::Index{1} << packed_key_bits;
+constexpr std::int64_t packed_offset_mask = max_packed_proxies - 1;
+/// Larger than every key: a lane with no proxy.
+constexpr std::int64_t absent_key = std::numeric_limits<std::int64_t>::max();
+
+/// A key that sorts like the squared distance d2 ≥ 0 (the IEEE bits of a non-negative double
+/// order like it) and carries the proxy's offset in its low bits.
+std::int64_t proxy_key(double d2, Eigen::Index offset) noexcept {
+  std::int64_t bits;
+  std::memcpy(&bits, &d2, sizeof bits);
+  return (bits & ~packed_offset_mask) | offset;
+}
+
+/// The proxy offset a key carries.
+std::size_t key_offset(std::int64_t key) noexcept {
+  return static_cast<std::size_t>(key & packed_offset_mask);
+}
 
 /// keys = min(keys, keys permuted by `indices`), a constant permutation of 0…7, lane by lane.
 /// Vectors go by reference: passed or returned by value they would change the function's ABI
@@ -178,23 +200,19 @@ void keep_minimum_with_permutation(KeyLanes& keys) noexcept {
 /// Precondition: x is finite.
 void find_nearest(const StateView& s, Eigen::Index begin, Eigen::Index end, int k,
                   const Eigen::Vector3d& x, Neighbours& out) noexcept {
-  constexpr int lanes = 8, max_rows = 8, offset_bits = 6;
-  static_assert(lanes * max_rows == 1 << offset_bits);
+  constexpr int max_rows = max_packed_proxies / key_lanes;
   const Eigen::Index size = end - begin;
-  if (size > lanes * max_rows) {
+  if (size > max_packed_proxies) {
     find_nearest_by_insertion(s, begin, end, k, x, out);
     return;
   }
-  alignas(64) std::array<double, lanes * max_rows> d2;
+  alignas(64) std::array<double, max_packed_proxies> d2;
   squared_distances(s, begin, size, x, d2.data());
-  constexpr std::int64_t absent = std::numeric_limits<std::int64_t>::max();
-  constexpr std::int64_t offset_mask = (std::int64_t{1} << offset_bits) - 1;
-  const int rows = static_cast<int>((size + lanes - 1) / lanes);
-  alignas(64) std::array<std::int64_t, lanes * max_rows> keys;
-  for (int b = 0; b < rows * lanes; ++b) {
-    std::int64_t bits;
-    std::memcpy(&bits, &d2[static_cast<std::size_t>(b)], sizeof bits);
-    keys[static_cast<std::size_t>(b)] = b < size ? ((bits & ~offset_mask) | b) : absent;
+  const int rows = static_cast<int>((size + key_lanes - 1) / key_lanes);
+  alignas(64) std::array<std::int64_t, max_packed_proxies> keys;
+  for (Eigen::Index b = 0; b < rows * key_lanes; ++b) {
+    keys[static_cast<std::size_t>(b)] =
+        b < size ? proxy_key(d2[static_cast<std::size_t>(b)], b) : absent_key;
   }
   std::array<KeyLanes, max_rows> row;
   std::memcpy(row.data(), keys.data(), static_cast<std::size_t>(rows) * sizeof(KeyLanes));
@@ -210,9 +228,9 @@ void find_nearest(const StateView& s, Eigen::Index begin, Eigen::Index end, int 
     keep_minimum_with_permutation<1, 0, 3, 2, 5, 4, 7, 6>(least);
     for (int r = 0; r < rows; ++r) {
       KeyLanes& lane = row[static_cast<std::size_t>(r)];
-      lane = lane == least ? absent : lane;
+      lane = lane == least ? absent_key : lane;
     }
-    const auto b = static_cast<std::size_t>(least[0] & offset_mask);
+    const std::size_t b = key_offset(least[0]);
     out.squared[static_cast<std::size_t>(m)] = d2[b];
     out.index[static_cast<std::size_t>(m)] = begin + static_cast<Eigen::Index>(b);
   }
@@ -560,28 +578,22 @@ double blend_above(const BlendStencil& b, const DistanceGrid& grid, double slope
 /// Preconditions: end − begin ≤ 64, 1 ≤ count ≤ 8, every point finite.
 void find_nearest_batch(const StateView& s, Eigen::Index begin, Eigen::Index end, int k,
                         const Eigen::Vector3d* x, int count, Neighbours* out) noexcept {
-  constexpr int lanes = 8, offset_bits = 6;
-  constexpr std::int64_t absent = std::numeric_limits<std::int64_t>::max();
-  constexpr std::int64_t offset_mask = (std::int64_t{1} << offset_bits) - 1;
   const Eigen::Index size = end - begin;
   // The squared distances as find_nearest() computes them, point by point.
-  alignas(64) std::array<std::array<double, 64>, lanes> d2;
+  alignas(64) std::array<std::array<double, max_packed_proxies>, key_lanes> d2;
   for (int l = 0; l < count; ++l) {
     squared_distances(s, begin, size, x[l], d2[static_cast<std::size_t>(l)].data());
   }
   std::array<KeyLanes, max_neighbours> best;
   for (int m = 0; m < k; ++m) {
-    for (int l = 0; l < lanes; ++l) best[static_cast<std::size_t>(m)][l] = absent;
+    for (int l = 0; l < key_lanes; ++l) best[static_cast<std::size_t>(m)][l] = absent_key;
   }
   for (Eigen::Index b = 0; b < size; ++b) {
     KeyLanes row;
-    for (int l = 0; l < lanes; ++l) {
-      std::int64_t bits = 0;
-      if (l < count) {
-        std::memcpy(&bits, &d2[static_cast<std::size_t>(l)][static_cast<std::size_t>(b)],
-                    sizeof bits);
-      }
-      row[l] = l < count ? ((bits & ~offset_mask) | b) : absent;
+    for (int l = 0; l < key_lanes; ++l) {
+      row[l] = l < count
+                   ? proxy_key(d2[static_cast<std::size_t>(l)][static_cast<std::size_t>(b)], b)
+                   : absent_key;
     }
     for (int m = 0; m < k; ++m) {
       KeyLanes& kept = best[static_cast<std::size_t>(m)];
@@ -592,7 +604,7 @@ void find_nearest_batch(const StateView& s, Eigen::Index begin, Eigen::Index end
   }
   for (int l = 0; l < count; ++l) {
     for (int m = 0; m < k; ++m) {
-      const auto b = static_cast<std::size_t>(best[static_cast<std::size_t>(m)][l] & offset_mask);
+      const std::size_t b = key_offset(best[static_cast<std::size_t>(m)][l]);
       out[l].squared[static_cast<std::size_t>(m)] = d2[static_cast<std::size_t>(l)][b];
       out[l].index[static_cast<std::size_t>(m)] = begin + static_cast<Eigen::Index>(b);
     }
@@ -670,7 +682,7 @@ void DeformedFieldState::culling_distances(std::span<const Eigen::Vector3d> x,
   const StateView view{field.rest_positions().data(), m_positions.data(), m_inverse.data(),
                        m_count};
   const int k = field.neighbours();
-  constexpr int lanes = 8;
+  constexpr int lanes = key_lanes;
   for (std::size_t first = 0; first < count; first += lanes) {
     // The group's finite points; the others are NaN, as in culling_distance().
     std::array<Eigen::Vector3d, lanes> points;
@@ -688,7 +700,7 @@ void DeformedFieldState::culling_distances(std::span<const Eigen::Vector3d> x,
     for (Eigen::Index d = 0; d < field.num_domains(); ++d) {
       const Eigen::Index begin = field.domain_begin(d), end = field.domain_end(d);
       std::array<Neighbours, lanes> nearest;
-      if (end - begin <= 64) {
+      if (end - begin <= max_packed_proxies) {
         find_nearest_batch(view, begin, end, k, points.data(), used, nearest.data());
       } else {
         for (int l = 0; l < used; ++l) {
