@@ -21,7 +21,7 @@ class ProductCache {
  public:
   /// What fetch() did for one product.
   struct Record {
-    std::string name;            ///< e.g. "dino field".
+    std::string name;            ///< e.g. "distance_field" (what prepare_scene() names it).
     std::filesystem::path file;  ///< Where the product is stored.
     bool computed = false;       ///< false: read from the cache.
     double seconds = 0.0;        ///< Wall time of the computation (and its write) or the read.
