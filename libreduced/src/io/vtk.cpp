@@ -1,6 +1,7 @@
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/io/vtk.hpp>
 
+#include "detail/xml_text.hpp"
 #include "io/volume_parsing.hpp"
 
 #include <algorithm>
@@ -175,37 +176,13 @@ std::string legacy(const Grid& grid, const VtkFields& fields) {
 
 // ---- VTK XML (.vtu) ----
 
-/// `text` with the characters XML gives meaning to inside an attribute value escaped.
-std::string xml_escaped(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 /// Opens a DataArray element; `name` and `components` are omitted when empty or zero.
 void open_data_array(std::string& out, const char* type, const std::string& name,
                      Eigen::Index components) {
   out += "<DataArray type=\"";
   out += type;
   out += '"';
-  if (!name.empty()) out += " Name=\"" + xml_escaped(name) + '"';
+  if (!name.empty()) out += " Name=\"" + detail::xml_escaped(name) + '"';
   if (components > 0) out += " NumberOfComponents=\"" + std::to_string(components) + '"';
   out += " format=\"ascii\">\n";
 }
