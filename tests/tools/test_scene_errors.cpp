@@ -450,6 +450,26 @@ TEST(SceneErrors, FilesThatDoNotExist) {
                              directory + ")"));
 }
 
+TEST(SceneErrors, ProceduralShapes) {
+  EXPECT_TRUE(
+      fails_with(edited([](Json& s) { s["objects"][1]["mesh"] = "shape:cube"; }), "objects[1].mesh",
+                 "unknown shape \"cube\"; the shapes are alpha_tube, peg, plate_with_hole"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][1]["mesh"] = "shape:"; }),
+                         "objects[1].mesh",
+                         "unknown shape \"\"; the shapes are alpha_tube, peg, plate_with_hole"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][1]["mesh"] = "shape:peg:side=0"; }),
+                         "objects[1].mesh", "shape \"peg\": side: expected a number > 0, got 0"));
+  EXPECT_TRUE(fails_with(
+      edited([](Json& s) { s["objects"][0]["mesh"] = "shape:alpha_tube:segment=64"; }),
+      "objects[0].mesh",
+      "shape \"alpha_tube\": unknown parameter \"segment\"; did you mean \"segments\"? The "
+      "parameters are loop, radius, segments, sides"));
+  // No file, so no extension to check and nothing to find, even with check_files.
+  EXPECT_NO_THROW(
+      parse_scene(edited([](Json& s) { s["objects"][1]["mesh"] = "shape:plate_with_hole"; }).dump(),
+                  "scene.json", test_options()));
+}
+
 TEST(SceneErrors, Devices) {
   EXPECT_TRUE(fails_with(edited([](Json& s) {
                            s["device"] = Json::parse(R"({"type": "operator", "keyframes": [

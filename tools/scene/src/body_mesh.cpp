@@ -2,6 +2,7 @@
 
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/io/mesh_file.hpp>
+#include <khz/scene/procedural_shape.hpp>
 
 #include <string>
 #include <utility>
@@ -34,7 +35,9 @@ reduced::TriangleMesh to_body_frame(reduced::TriangleMesh file_mesh,
 }
 
 reduced::TriangleMesh read_body_mesh(const ObjectDescription& object) {
-  return to_body_frame(reduced::read_triangle_mesh(object.mesh_path), object);
+  return to_body_frame(object.shape.empty() ? reduced::read_triangle_mesh(object.mesh_path)
+                                            : procedural_shape(object.shape),
+                       object);
 }
 
 }  // namespace khz::scene

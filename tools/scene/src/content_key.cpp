@@ -3,6 +3,7 @@
 #include "names.hpp"
 
 #include <khz/reduced/errors.hpp>
+#include <khz/scene/procedural_shape.hpp>
 
 #include <xxhash.h>
 #include <nlohmann/json.hpp>
@@ -23,8 +24,12 @@ constexpr int key_version = 1;
 
 Json vector_json(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
-/// The mesh by content and format, never by path.
+/// The mesh by content and format, never by path; a procedural shape by its canonical spec and
+/// the generators' version.
 Json mesh_json(const ObjectDescription& object) {
+  if (!object.shape.empty()) {
+    return {{"shape", object.shape}, {"generator_version", procedural_shape_version}};
+  }
   std::string extension = object.mesh_path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(), [](char c) {
     return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

@@ -3,6 +3,8 @@
 #include "names.hpp"
 
 #include <khz/contact/field/deformed_distance_field.hpp>
+#include <khz/reduced/errors.hpp>
+#include <khz/scene/procedural_shape.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -11,6 +13,7 @@
 #include <filesystem>
 #include <limits>
 #include <string>
+#include <string_view>
 
 namespace khz::scene::detail {
 namespace {
@@ -35,6 +38,16 @@ void check_mesh_extension(const std::string& written, const Location& at) {
   });
   if (extension != ".obj" && extension != ".off" && extension != ".stl" && extension != ".ply") {
     at.fail("expected a surface mesh file (.obj, .off, .stl or .ply), got " + in_quotes(written));
+  }
+}
+
+/// The canonical spec of a "shape:SPEC" mesh; a spec procedural_shape() refuses fails at `at`
+/// with its message.
+std::string read_shape(std::string_view spec, const Location& at) {
+  try {
+    return canonical_shape_spec(spec);
+  } catch (const reduced::Error& error) {
+    at.fail(error.what());
   }
 }
 
@@ -418,9 +431,15 @@ ObjectDescription read_object(const Json& value, const Location& at, const ReadC
   result.name = object.required_string("name", "the object's name");
   check_name(result.name, object.at("name"));
   result.mesh = object.required_string("mesh", "the surface mesh file, or \"cgal:NAME\"");
-  check_mesh_extension(result.mesh, object.at("mesh"));
-  result.mesh_path =
-      resolve_file(result.mesh, object.at("mesh"), context, "mesh file", /*allow_cgal=*/true);
+  constexpr std::string_view shape_prefix = "shape:";
+  if (result.mesh.starts_with(shape_prefix)) {
+    result.shape =
+        read_shape(std::string_view(result.mesh).substr(shape_prefix.size()), object.at("mesh"));
+  } else {
+    check_mesh_extension(result.mesh, object.at("mesh"));
+    result.mesh_path =
+        resolve_file(result.mesh, object.at("mesh"), context, "mesh file", /*allow_cgal=*/true);
+  }
   if (object.has("scale") && object.has("size")) {
     object.fail("size", "give either \"scale\" or \"size\", not both");
   }

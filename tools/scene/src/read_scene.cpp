@@ -322,23 +322,43 @@ std::filesystem::path default_cgal_mesh_dir() {
 #endif
 }
 
-SceneDescription read_scene(const std::filesystem::path& file, const SceneReadOptions& options) {
+namespace {
+
+/// The whole file as text. @throws reduced::IoError naming the file (`what`: "scene file").
+std::string read_text_file(const std::filesystem::path& file, const std::string& what) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(file, error)) {
     throw reduced::IoError(
-        "cannot read scene file " + file.string() +
+        "cannot read " + what + " " + file.string() +
         (std::filesystem::exists(file, error) ? ": not a regular file" : ": no such file"));
   }
   std::ifstream stream(file, std::ios::binary);
-  const std::string text((std::istreambuf_iterator<char>(stream)),
-                         std::istreambuf_iterator<char>());
+  std::string text((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
   if (!stream && !stream.eof()) {
-    throw reduced::IoError("cannot read scene file " + file.string());
+    throw reduced::IoError("cannot read " + what + " " + file.string());
   }
-  const std::filesystem::path base = options.base_directory.empty()
-                                         ? std::filesystem::absolute(file).parent_path()
-                                         : options.base_directory;
-  return parse(text, make_context(file.string(), base, options));
+  return text;
+}
+
+std::filesystem::path base_of(const std::filesystem::path& file, const SceneReadOptions& options) {
+  return options.base_directory.empty() ? std::filesystem::absolute(file).parent_path()
+                                        : options.base_directory;
+}
+
+}  // namespace
+
+SceneDescription read_scene(const std::filesystem::path& file, const SceneReadOptions& options) {
+  const std::string text = read_text_file(file, "scene file");
+  return parse(text, make_context(file.string(), base_of(file, options), options));
+}
+
+DeviceDescription read_device_file(const std::filesystem::path& file, double rate_hz,
+                                   const SceneReadOptions& options) {
+  const std::string text = read_text_file(file, "device file");
+  ReadContext context = make_context(file.string(), base_of(file, options), options);
+  context.rate_hz = rate_hz;
+  const Json json = detail::parse_json(text, context.source);
+  return detail::read_device(&json, Location{context.source, {}}, context);
 }
 
 SceneDescription parse_scene(std::string_view text, const std::string& source,

@@ -1,6 +1,6 @@
 #pragma once
-// An object's surface mesh in its body frame: the mesh file's coordinates scaled to metres and
-// optionally centred, as the scene describes (docs/SCENES.md, "Frames").
+// An object's surface mesh in its body frame: the mesh file's (or procedural shape's) coordinates
+// scaled to metres and optionally centred, as the scene describes (docs/SCENES.md, "Frames").
 
 #include <khz/reduced/mesh/triangle_mesh.hpp>
 #include <khz/scene/object_description.hpp>
@@ -16,10 +16,10 @@ namespace khz::scene {
 reduced::TriangleMesh to_body_frame(reduced::TriangleMesh file_mesh,
                                     const ObjectDescription& object);
 
-/// The object's surface mesh (object.mesh_path, format by extension) in its body frame
-/// (to_body_frame()).
-/// @throws reduced::IoError, ParseError or Error as reduced::read_triangle_mesh();
-///         reduced::MeshError as to_body_frame().
+/// The object's surface mesh in its body frame (to_body_frame()): object.mesh_path read (format
+/// by extension), or the procedural shape object.shape generated (procedural_shape()).
+/// @throws reduced::IoError, ParseError or Error as reduced::read_triangle_mesh(); reduced::Error
+///         for an invalid shape spec; reduced::MeshError as to_body_frame().
 reduced::TriangleMesh read_body_mesh(const ObjectDescription& object);
 
 }  // namespace khz::scene

@@ -14,7 +14,8 @@ namespace khz::scene {
 /// The precomputed products of an object.
 enum class Product {
   /// The signed distance field (.khzsdf), or a soup's PolygonSoupField. Inputs: the mesh
-  /// file's bytes and extension, scale or size, centre, and field.cells, box_expansion,
+  /// file's bytes and extension (a procedural shape's canonical spec and
+  /// procedural_shape_version instead), scale or size, centre, and field.cells, box_expansion,
   /// exact_band, soup (and offset for soups).
   distance_field,
   /// The pointshell (.khzshell). Inputs: the mesh, scale or size, centre and the pointshell
@@ -43,7 +44,9 @@ bool needs_product(const ObjectDescription& object, Product product) noexcept;
 /// The canonical JSON text of the inputs of `product` (see Product): sorted keys, no spaces,
 /// numbers as the shortest text that reads back to the same double, every default written out,
 /// and a key format version; files enter as the XXH3-64 of their bytes, never by path, so
-/// moving or renaming a file keeps the key. Equal texts ⇔ equal inputs.
+/// moving or renaming a file keeps the key, and a procedural mesh ("shape:SPEC") enters as its
+/// canonical spec (ObjectDescription::shape) with procedural_shape_version. Equal texts ⇔ equal
+/// inputs.
 /// @throws reduced::Error if the object does not need the product (needs_product());
 ///         reduced::IoError if the mesh or load file cannot be read.
 std::string content_key(const ObjectDescription& object, Product product);

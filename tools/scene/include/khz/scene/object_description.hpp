@@ -19,18 +19,22 @@ struct ObjectRoles {
   bool distance_field = false;  ///< Has a distance field that pointshells touch.
 };
 
-/// JSON objects[i]. The body frame is the mesh file's frame, scaled and optionally centred;
-/// the pose places it in the world.
+/// JSON objects[i]. The body frame is the mesh's frame (its file's, or the procedural shape's),
+/// scaled and optionally centred; the pose places it in the world.
 struct ObjectDescription {
   /// "name" (required): unique in the scene; letters, digits, '_', '-' and '.', not starting
   /// with '.' (the preparation step may use it in file names).
   std::string name;
-  /// "mesh" (required): the surface mesh (.obj, .off, .stl, .ply) as written in the scene: a
-  /// path, relative to the scene file's directory unless absolute, or "cgal:NAME" for one of
-  /// CGAL's demo meshes (see default_cgal_mesh_dir()).
+  /// "mesh" (required): the surface mesh as written in the scene: a file (.obj, .off, .stl,
+  /// .ply), relative to the scene file's directory unless absolute; "cgal:NAME" for one of
+  /// CGAL's demo meshes (see default_cgal_mesh_dir()); or "shape:SPEC" for a procedural mesh
+  /// (procedural_shape(), e.g. "shape:peg:side=0.02"), generated when the object is prepared.
   std::string mesh;
-  /// `mesh` resolved: absolute and lexically normal.
+  /// A file `mesh` resolved: absolute and lexically normal. Empty for a procedural shape.
   std::filesystem::path mesh_path;
+  /// A procedural shape's spec in canonical form (canonical_shape_spec(): every parameter
+  /// written out), e.g. "peg:side=0.02,length=0.08,chamfer=0.001". Empty for a file.
+  std::string shape;
   /// "scale": uniform factor from the file's units to metres, > 0. Default 1.
   double scale = 1.0;
   /// "size" (instead of "scale"): the scale is chosen so that the longest side of the mesh's

@@ -33,6 +33,16 @@ std::filesystem::path default_cgal_mesh_dir();
 SceneDescription read_scene(const std::filesystem::path& file,
                             const SceneReadOptions& options = {});
 
+/// Reads a device description on its own: a JSON object with the keys of a scene's "device"
+/// (docs/SCENES.md), e.g. {"type": "operator", "keyframes": [...]} — an operator script — or
+/// {"type": "trajectory", "file": "path.csv"}. `khz run --operator SCRIPT` reads it. Relative
+/// paths resolve against the file's directory; `rate_hz` is the loop rate the device's
+/// nominal_rate defaults to.
+/// @throws reduced::IoError if the file cannot be read; SceneError at the first problem, with
+///         key paths relative to the file's root object.
+DeviceDescription read_device_file(const std::filesystem::path& file, double rate_hz,
+                                   const SceneReadOptions& options = {});
+
 /// Parses and validates scene text. `source` names it in error messages.
 /// @throws SceneError at the first problem, naming the key path and what was expected and
 ///         found: JSON syntax (line and column), duplicate, unknown (with the closest known key
