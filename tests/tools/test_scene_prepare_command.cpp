@@ -1,34 +1,17 @@
 // `khz prep SCENE --cache DIR` end to end: the summary table says what was computed and what
 // was read, a second run computes nothing, and a failure exits non-zero naming the object.
-// KHZ_TOOL_PATH (the khz executable) comes from tests/CMakeLists.txt.
+#include "khz_command.hpp"
+
 #include <khz/test/fixtures.hpp>
 
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <initializer_list>
-#include <sstream>
 #include <string>
 
 namespace khz::test {
 namespace {
-
-struct KhzRun {
-  int exit_code = -1;
-  std::string output;  ///< stdout and stderr together
-};
-
-KhzRun khz(const std::string& arguments) {
-  const std::filesystem::path output = scratch_file("khz-output.txt");
-  const std::string command =
-      std::string("\"") + KHZ_TOOL_PATH + "\" " + arguments + " > \"" + output.string() + "\" 2>&1";
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_bytes(output)};
-}
 
 /// An empty directory in the running test's scratch space (scratch_file() clears files, not
 /// directories).
@@ -36,17 +19,6 @@ std::filesystem::path fresh_directory(const std::string& name) {
   const std::filesystem::path directory = scratch_file(name + ".probe").parent_path() / name;
   std::filesystem::remove_all(directory);
   return directory;
-}
-
-/// Whether some line of `text` contains every one of `words`.
-bool has_line_with(const std::string& text, std::initializer_list<std::string> words) {
-  std::istringstream lines(text);
-  for (std::string line; std::getline(lines, line);) {
-    bool all = true;
-    for (const std::string& word : words) all = all && line.find(word) != std::string::npos;
-    if (all) return true;
-  }
-  return false;
 }
 
 /// A scene file in the test's scratch directory: a rigid field "wall" and a rigid random
@@ -72,20 +44,16 @@ TEST(KhzPrep, ComputesThenReadsAndSummarizes) {
 
   const KhzRun first = khz(arguments);
   ASSERT_EQ(first.exit_code, 0) << first.output;
-  EXPECT_TRUE(has_line_with(first.output, {"cache: ", cache.string()})) << first.output;
-  EXPECT_TRUE(has_line_with(first.output, {"wall", "distance_field", "computed", ".khzsdf"}))
-      << first.output;
-  EXPECT_TRUE(has_line_with(first.output, {"tool", "pointshell", "computed", ".khzshell"}))
-      << first.output;
-  EXPECT_TRUE(has_line_with(first.output, {"tool", "point_tree", "built"})) << first.output;
-  EXPECT_TRUE(has_line_with(first.output, {"total: ", "(2 computed, 0 read, 1 built)"}))
-      << first.output;
+  EXPECT_TRUE(has_line_with(first, {"cache: ", cache.string()}));
+  EXPECT_TRUE(has_line_with(first, {"wall", "distance_field", "computed", ".khzsdf"}));
+  EXPECT_TRUE(has_line_with(first, {"tool", "pointshell", "computed", ".khzshell"}));
+  EXPECT_TRUE(has_line_with(first, {"tool", "point_tree", "built"}));
+  EXPECT_TRUE(has_line_with(first, {"total: ", "(2 computed, 0 read, 1 built)"}));
 
   const KhzRun second = khz(arguments);
   ASSERT_EQ(second.exit_code, 0) << second.output;
-  EXPECT_TRUE(has_line_with(second.output, {"wall", "distance_field", "read"})) << second.output;
-  EXPECT_TRUE(has_line_with(second.output, {"total: ", "(0 computed, 2 read, 1 built)"}))
-      << second.output;
+  EXPECT_TRUE(has_line_with(second, {"wall", "distance_field", "read"}));
+  EXPECT_TRUE(has_line_with(second, {"total: ", "(0 computed, 2 read, 1 built)"}));
 }
 
 TEST(KhzPrep, AFailureExitsNonZeroNamingTheObject) {
@@ -95,8 +63,7 @@ TEST(KhzPrep, AFailureExitsNonZeroNamingTheObject) {
   const KhzRun run =
       khz("prep \"" + write_scene(mesh).string() + "\" --cache \"" + cache.string() + "\"");
   EXPECT_EQ(run.exit_code, 1) << run.output;
-  EXPECT_TRUE(has_line_with(run.output, {"khz: object \"wall\": distance_field: ", "broken.off"}))
-      << run.output;
+  EXPECT_TRUE(has_line_with(run, {"khz: object \"wall\": distance_field: ", "broken.off"}));
 }
 
 }  // namespace
