@@ -11,6 +11,7 @@
 // printing progress bars on the way, and writes basis_tour.khzbasis (Kilohertz's checked
 // format), basis_tour.npy (NumPy: numpy.load) and basis_tour.mat (MATLAB: load), and
 // basis_tour_modes.vtu with the modes and the first basis vectors as point arrays for ParaView.
+#include "cantilever.hpp"
 #include "point_array.hpp"
 #include "progress_bar.hpp"
 
@@ -21,7 +22,6 @@
 #include <khz/reduced/io/mesh_file.hpp>
 #include <khz/reduced/io/vtk.hpp>
 #include <khz/reduced/meshing/box_mesh.hpp>
-#include <khz/reduced/solvers/fixed_dofs.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -45,9 +45,7 @@ int main(int argc, char** argv) {
     const kr::Material rubber = kr::Material::stvk(1e6, 0.45, 1100.0);  // Pa, –, kg/m³
     kr::FemModel model(kr::box_hex_mesh(Eigen::Vector3d::Zero(), {length, side, side}, {40, 4, 4}),
                        {rubber});
-    const Eigen::AlignedBox3d clamp_box(Eigen::Vector3d(-1e-9, -1, -1),
-                                        Eigen::Vector3d(1e-9, 1, 1));
-    const std::vector<int> clamped = kr::vertices_in_box(model.mesh().vertices, clamp_box);
+    const std::vector<int> clamped = khz::examples::vertices_at_x(model.mesh().vertices, 0.0);
     std::cout << "beam: " << model.mesh().num_vertices() << " vertices, "
               << model.mesh().num_elements() << " hexahedra, " << clamped.size() << " clamped\n";
 

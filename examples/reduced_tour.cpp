@@ -12,6 +12,7 @@
 //   4. stiffens the material at runtime (λ, μ × 4, §2.11) and swings it again: the same impulse
 //      now moves the tip about half as far,
 // and writes reduced_tour.vtu, the beam at its largest deflection, for ParaView.
+#include "cantilever.hpp"
 #include "point_array.hpp"
 #include "progress_bar.hpp"
 
@@ -20,7 +21,6 @@
 #include <khz/reduced/io/mesh_file.hpp>
 #include <khz/reduced/io/reduced_model_file.hpp>
 #include <khz/reduced/meshing/box_mesh.hpp>
-#include <khz/reduced/solvers/fixed_dofs.hpp>
 #include <khz/reduced/subspace/polynomial_forces.hpp>
 #include <khz/reduced/subspace/reconstruction.hpp>
 #include <khz/reduced/subspace/reduced_model.hpp>
@@ -80,12 +80,8 @@ int main(int argc, char** argv) {
     const kr::FemModel fem(
         kr::box_hex_mesh(Eigen::Vector3d::Zero(), {length, side, side}, {40, 4, 4}),
         {kr::Material::stvk(1e6, 0.45, 1100.0)});  // rubber: Pa, –, kg/m³
-    const auto face = [&](double x) {
-      return kr::vertices_in_box(
-          fem.mesh().vertices,
-          Eigen::AlignedBox3d(Eigen::Vector3d(x - 1e-9, -1, -1), Eigen::Vector3d(x + 1e-9, 1, 1)));
-    };
-    const std::vector<int> clamped = face(0.0), tip = face(length);
+    const std::vector<int> clamped = khz::examples::vertices_at_x(fem.mesh().vertices, 0.0);
+    const std::vector<int> tip = khz::examples::vertices_at_x(fem.mesh().vertices, length);
 
     auto start = Clock::now();
     kr::ModalDerivativeBasisOptions basis_options;
@@ -109,8 +105,7 @@ int main(int argc, char** argv) {
     for (int v : tip) impulse.push_back({v, {0.0, 0.0, -150.0 / static_cast<double>(tip.size())}});
     Eigen::VectorXd reduced_force(r);
     kr::reduced_point_forces(model.basis().vectors, impulse, reduced_force);
-    Eigen::MatrixXd tip_modes = Eigen::MatrixXd::Zero(3, r);
-    for (int v : tip) tip_modes += model.basis().vectors.middleRows<3>(3 * v) / tip.size();
+    const Eigen::MatrixXd tip_modes = khz::examples::vertex_mean(model.basis().vectors, tip);
 
     kr::PolynomialForces forces(model.energy_polynomial());
     // The integrator settings the model file carries (Δt, Newmark, damping, Newton).
