@@ -1,115 +1,13 @@
 #include "commands.hpp"
-#include "progress_bar.hpp"
+#include "scene_preparation.hpp"
 
-#include <khz/scene/cache_directory.hpp>
-#include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/read_scene.hpp>
 
-#include <unistd.h>
-
-#include <algorithm>
-#include <csignal>
-#include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
-#include <vector>
 
 namespace khz::tool {
-namespace {
-
-volatile std::sig_atomic_t interrupted = 0;
-
-void on_interrupt(int) {
-  interrupted = 1;
-  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process at once
-}
-
-/// While alive, Ctrl-C asks the preparation to stop (reduced::Cancelled) instead of killing the
-/// process, so the product cache is left without temporary files.
-class InterruptRequest {
- public:
-  InterruptRequest() : m_previous(std::signal(SIGINT, on_interrupt)) { interrupted = 0; }
-  ~InterruptRequest() { std::signal(SIGINT, m_previous); }
-  InterruptRequest(const InterruptRequest&) = delete;
-  InterruptRequest& operator=(const InterruptRequest&) = delete;
-
-  bool requested() const noexcept { return interrupted != 0; }
-
- private:
-  void (*m_previous)(int);
-};
-
-/// --cache, or default_cache_directory(), or `.khz-cache` beside the scene file.
-std::filesystem::path cache_directory(const std::string& option, const std::string& scene_file) {
-  if (!option.empty()) return option;
-  std::filesystem::path directory = scene::default_cache_directory();
-  if (directory.empty()) {
-    directory = std::filesystem::absolute(scene_file).parent_path() / ".khz-cache";
-  }
-  return directory;
-}
-
-std::string seconds_text(double seconds) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.2f", seconds);
-  return text;
-}
-
-/// One row per product: object, product, how it was obtained, seconds, cache file; then the
-/// total, and the notes of products that need a look.
-void print_summary(std::ostream& out, const scene::PreparedScene& prepared,
-                   const std::filesystem::path& cache) {
-  std::vector<std::vector<std::string>> rows{{"object", "product", "how", "seconds", "file"}};
-  for (const scene::PrepareRecord& record : prepared.records) {
-    rows.push_back({record.object, std::string(scene::step_name(record.step)),
-                    std::string(scene::origin_name(record.origin)), seconds_text(record.seconds),
-                    record.file.filename().string()});
-  }
-  std::vector<std::size_t> widths(rows.front().size(), 0);
-  for (const auto& row : rows) {
-    for (std::size_t c = 0; c < row.size(); ++c) widths[c] = std::max(widths[c], row[c].size());
-  }
-  out << "cache: " << cache.string() << "\n";
-  for (const auto& row : rows) {
-    std::string line;
-    for (std::size_t c = 0; c < row.size(); ++c) {
-      const std::string padding(widths[c] - row[c].size(), ' ');
-      line += c == 3 ? padding + row[c] : row[c] + padding;  // seconds right-aligned
-      if (c + 1 < row.size()) line += "  ";
-    }
-    line.erase(line.find_last_not_of(' ') + 1);
-    out << "  " << line << "\n";
-  }
-  using Origin = scene::PrepareRecord::Origin;
-  out << "total: " << seconds_text(prepared.total_seconds()) << " s ("
-      << prepared.count(Origin::computed) << " computed, " << prepared.count(Origin::read)
-      << " read, " << prepared.count(Origin::built) << " built)\n";
-  for (const scene::PrepareRecord& record : prepared.records) {
-    if (record.note.empty()) continue;
-    out << "note: " << record.object << " " << scene::step_name(record.step) << ": " << record.note
-        << "\n";
-  }
-}
-
-void run_prep(const std::string& scene_file, const std::string& cache_option) {
-  const scene::SceneDescription description = scene::read_scene(scene_file);
-  scene::ProductCache cache(cache_directory(cache_option, scene_file));
-  ProgressBar bar(std::cerr, ::isatty(STDERR_FILENO) == 1);
-  const InterruptRequest interrupt;
-  scene::PrepareOptions options;
-  options.progress = [&](const std::string& object, scene::PrepareStep step,
-                         const reduced::Progress& progress) {
-    bar.update(object + " " + std::string(scene::step_name(step)), progress);
-    return !interrupt.requested();
-  };
-  const scene::PreparedScene prepared = scene::prepare_scene(description, cache, options);
-  bar.clear();
-  print_summary(std::cout, prepared, cache.directory());
-}
-
-}  // namespace
 
 void add_prep_command(CLI::App& app) {
   struct Arguments {
@@ -126,7 +24,10 @@ void add_prep_command(CLI::App& app) {
   command->add_option("--cache", args->cache,
                       "Product cache directory (default: $XDG_CACHE_HOME/kilohertz, else "
                       "~/.cache/kilohertz)");
-  command->callback([args] { run_prep(args->scene, args->cache); });
+  command->callback([args] {
+    prepare_with_progress(scene::read_scene(args->scene), cache_directory(args->cache, args->scene),
+                          std::cout);
+  });
 }
 
 }  // namespace khz::tool

@@ -5,9 +5,13 @@
 
 namespace khz::tool {
 
-/// `khz info FILE`: describes a mesh file (counts, bounds, topology checks), a basis file
-/// (format version, n, r, mesh fingerprint, recipe, size) or a reduced model file (the same, plus
-/// the material groups and integrator defaults).
+/// `khz info FILE`: describes any file khz writes or reads, by extension: meshes (counts,
+/// bounds, topology checks), basis and reduced model files (format version, n, r, mesh
+/// fingerprint, recipe, materials, integrator defaults), distance fields, pointshells and point
+/// trees (grid, levels, points, r, fingerprint), scenes (validated, then objects, products,
+/// haptic object, device, loop), trajectories, PNG images, and the ParaView and NumPy/MATLAB
+/// exports it has no reader for (size only). Unknown extensions are an error listing the known
+/// ones.
 void add_info_command(CLI::App& app);
 /// `khz convert IN OUT`: converts between mesh formats, chosen by extension.
 void add_convert_command(CLI::App& app);
@@ -17,12 +21,19 @@ void add_repair_command(CLI::App& app);
 /// the product cache, with progress bars on stderr and a table of what was computed or read, in
 /// how many seconds, on stdout.
 void add_prep_command(CLI::App& app);
+/// `khz shape SPEC OUT`: writes a procedural mesh (scene::procedural_shape(), a scene's
+/// "shape:SPEC") to a surface mesh file, format by extension.
+void add_shape_command(CLI::App& app);
+/// `khz run SCENE [--trajectory FILE | --operator SCRIPT | --device NAME]`: prepares the scene
+/// and runs its haptic cycle in simulated time (run::run_scene()), writing cycles.csv and PNG
+/// frames to the output directory and printing a summary.
+void add_run_command(CLI::App& app);
+/// `khz report SCENE [same options as run]`: runs the scene, replays its states in contact
+/// under every level of detail and time budget (run::sweep_contact()) and writes report.md with
+/// plots (run::write_report()).
+void add_report_command(CLI::App& app);
 
 /// True if `path` names a volumetric mesh format (.msh, .node, .ele) rather than a surface.
 bool is_volume_mesh_file(const std::string& path);
-/// True if `path` has the basis file extension (.khzbasis).
-bool is_basis_file(const std::string& path);
-/// True if `path` has the reduced model file extension (.khzmodel).
-bool is_reduced_model_file(const std::string& path);
 
 }  // namespace khz::tool

@@ -14,6 +14,9 @@ int main(int argc, char** argv) {
   khz::tool::add_convert_command(app);
   khz::tool::add_repair_command(app);
   khz::tool::add_prep_command(app);
+  khz::tool::add_shape_command(app);
+  khz::tool::add_run_command(app);
+  khz::tool::add_report_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

@@ -133,8 +133,8 @@ void fill_triangle(Target& target, const ScreenVertex& a, const ScreenVertex& b,
 
 /// Fills the pixels whose centres lie within `radius` of (x, y), and the pixel containing
 /// (x, y), at depth 1 / inverse_depth.
-void fill_disc(Target& target, double x, double y, double radius, double inverse_depth,
-               Color color) {
+void fill_disc(Target& target, double x, double y, double radius, double inverse_depth, Color color,
+               bool depth_test) {
   const int width = target.image.width();
   const int height = target.image.height();
   const double centre_x = std::floor(x);
@@ -151,8 +151,10 @@ void fill_disc(Target& target, double x, double y, double radius, double inverse
       if (dx * dx + dy * dy > radius * radius && (ix != centre_x || iy != centre_y)) continue;
       const std::size_t index = static_cast<std::size_t>(iy) * static_cast<std::size_t>(width) +
                                 static_cast<std::size_t>(ix);
-      if (!(depth > target.inverse_depth[index])) continue;
-      target.inverse_depth[index] = depth;
+      if (depth_test) {
+        if (!(depth > target.inverse_depth[index])) continue;
+        target.inverse_depth[index] = depth;
+      }
       target.image.set_pixel(ix, iy, color);
     }
   }
@@ -324,7 +326,7 @@ void Rasterizer::draw_points(const Eigen::Ref<const reduced::VertexMatrix>& poin
     const double world_radius = style.radius * point->depth / m_camera.focal_length();
     const double front = std::max(point->depth - world_radius, m_camera.near_distance());
     fill_disc(target, point->pixel.x(), point->pixel.y(), style.radius, 1.0 / front,
-              colors[colors.size() == 1 ? 0 : i]);
+              colors[colors.size() == 1 ? 0 : i], !style.always_on_top);
   }
 }
 

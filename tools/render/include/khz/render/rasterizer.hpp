@@ -31,6 +31,10 @@ struct MeshStyle {
 struct PointStyle {
   /// Disc radius in pixels, > 0. The pixel containing the point is always drawn.
   double radius = 3.0;
+  /// Draw over everything, without depth test and without writing depth (an x-ray view: e.g.
+  /// pointshell points in contact, which lie inside the other object); false hides points
+  /// behind nearer geometry.
+  bool always_on_top = false;
 };
 
 /// How draw_arrow() draws an arrow: a shaft as a thick line ending in a triangular head, both

@@ -1,0 +1,131 @@
+// `khz run` and `khz report` end to end on a small scene: the files they promise exist and hold
+// what they should (the CSV one row per cycle, PNGs that decode, a ParaView collection listing
+// every frame, a report with its tables and plots), and bad requests fail with a message.
+#include "khz_command.hpp"
+
+#include <khz/render/png_file.hpp>
+#include <khz/run/cycle_log.hpp>
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+namespace khz::test {
+namespace {
+
+/// An empty directory in the running test's scratch space.
+std::filesystem::path fresh_directory(const std::string& name) {
+  const std::filesystem::path directory = scratch_file(name + ".probe").parent_path() / name;
+  std::filesystem::remove_all(directory);
+  return directory;
+}
+
+/// A 4 cm cube tool pressed 3 mm into a 10 cm cube wall and lifted, over 0.3 s.
+std::filesystem::path write_scene() {
+  const std::filesystem::path trajectory = scratch_file("press.csv");
+  std::ofstream csv(trajectory);
+  csv << "t,x,y,z,qw,qx,qy,qz\n0,0,0.072,0,1,0,0,0\n0.15,0,0.066,0,1,0,0,0\n"
+         "0.3,0,0.072,0,1,0,0,0\n";
+  csv.close();
+  const std::filesystem::path scene = scratch_file("scene.json");
+  std::ofstream(scene) << R"({"objects": [
+    {"name": "wall", "mesh": ")"
+                       << test_file("scenes/cube.off").string() << R"(", "size": 0.1,
+     "centre": true, "roles": ["distance_field"], "field": {"cells": 24}},
+    {"name": "tool", "mesh": ")"
+                       << test_file("scenes/cube.off").string() << R"(", "size": 0.04,
+     "centre": true, "pose": {"position": [0, 0.072, 0]}, "roles": ["pointshell"],
+     "pointshell": {"method": "random", "points": 4000, "first_level_points": 50, "growth": 4,
+                    "levels": 3}}],
+   "haptic": {"object": "tool"},
+   "contact": {"stiffness": 2000},
+   "coupling": {"stiffness": 300, "saturation_force": 5},
+   "device": {"type": "trajectory", "file": ")"
+                       << trajectory.string() << R"(", "playback": "at_nominal_rate"},
+   "loop": {"rate_hz": 1000}})";
+  return scene;
+}
+
+TEST(KhzRun, WritesTheCycleLogFramesAndParaViewSeries) {
+  const std::filesystem::path scene = write_scene();
+  const std::filesystem::path out = fresh_directory("run");
+  const std::filesystem::path cache = fresh_directory("cache");
+  const KhzRun run =
+      khz("run \"" + scene.string() + "\" --out \"" + out.string() + "\" --cache \"" +
+          cache.string() + "\" --frames 20 --width 160 --height 120 --paraview");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(has_line_with(run, {"cycles:", "300", "in contact"}));
+  EXPECT_TRUE(has_line_with(run, {"failed cycles: 0"}));
+
+  const std::vector<run::CycleRow> rows = run::read_cycle_csv(out / "cycles.csv");
+  ASSERT_EQ(rows.size(), 300u);  // 0.3 s at 1 kHz (the trajectory's length)
+  EXPECT_DOUBLE_EQ(rows[150].time, 0.15);
+  EXPECT_GT(rows[150].contacts, 0);
+  EXPECT_GT(rows[150].force.y(), 0.0);
+  EXPECT_EQ(rows.front().contacts, 0);
+
+  // 20 frames per second over 0.3 s: cycles 0, 50, …, 250.
+  for (int frame = 0; frame < 6; ++frame) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%05d.png", frame);
+    const render::Image image = render::read_png(out / "frames" / name);
+    EXPECT_EQ(image.width(), 160);
+    EXPECT_EQ(image.height(), 120);
+  }
+  EXPECT_FALSE(std::filesystem::exists(out / "frames" / "frame_00006.png"));
+
+  // Per frame: the two surfaces, the tool's points and the force.
+  const std::string pvd = read_bytes(out / "paraview" / "run.pvd");
+  for (const char* part :
+       {"part=\"wall\"", "part=\"tool\"", "part=\"points_tool\"", "part=\"force\""}) {
+    std::size_t count = 0;
+    for (std::size_t at = pvd.find(part); at != std::string::npos; at = pvd.find(part, at + 1)) {
+      ++count;
+    }
+    EXPECT_EQ(count, 6u) << part;
+  }
+  EXPECT_TRUE(std::filesystem::exists(out / "paraview" / "run" / "points_tool_000005.vtp"));
+
+  // A second run reads every product from the cache.
+  const KhzRun again = khz("run \"" + scene.string() + "\" --out \"" + out.string() +
+                           "\" --cache \"" + cache.string() + "\" --frames 0");
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_TRUE(has_line_with(again, {"total:", "(0 computed"}));
+}
+
+TEST(KhzReport, WritesTablesAndPlots) {
+  const std::filesystem::path scene = write_scene();
+  const std::filesystem::path out = fresh_directory("report");
+  const KhzRun run =
+      khz("report \"" + scene.string() + "\" --out \"" + out.string() + "\" --cache \"" +
+          fresh_directory("cache").string() + "\" --frames 10 --width 160 --height 120");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::string report = read_bytes(out / "report.md");
+  for (const char* text :
+       {"| cycles | 300 at 1000 Hz", "| all levels (reference) |", "| level 0 |", "| level 1 |",
+        "| budget 50 us |", "![speed against error](speed_vs_error.png)",
+        "frames/frame_00000.png"}) {
+    EXPECT_NE(report.find(text), std::string::npos) << text << "\n" << report;
+  }
+  for (const char* plot : {"force.png", "torque.png", "cost.png", "speed_vs_error.png"}) {
+    const render::Image image = render::read_png(out / plot);
+    EXPECT_GT(image.width(), 100) << plot;
+  }
+}
+
+TEST(KhzRun, RefusesTwoDevicesAndAMissingBackend) {
+  const std::filesystem::path scene = write_scene();
+  const KhzRun both = khz("run \"" + scene.string() + "\" --device dhd --trajectory \"" +
+                          (scene.parent_path() / "press.csv").string() + "\"");
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_TRUE(has_line_with(both, {"excludes"}));
+  const KhzRun hardware = khz("run \"" + scene.string() + "\" --device dhd --cache \"" +
+                              fresh_directory("cache").string() + "\" --out \"" +
+                              fresh_directory("out").string() + "\"");
+  EXPECT_EQ(hardware.exit_code, 1);
+  EXPECT_TRUE(has_line_with(hardware, {"dhd", "examples/device_adapters"}));
+}
+
+}  // namespace
+}  // namespace khz::test

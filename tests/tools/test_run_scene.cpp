@@ -1,0 +1,341 @@
+// Running prepared scenes (khz_run): the multi-pair contact against libhaptic's one-pair scene
+// and against separate queries, the simulated-time runner's reproducibility and its forces, the
+// cycle log's CSV, the point classification of frames against the query's own counts, and the
+// frame pictures' properties.
+#include "scene_fixtures.hpp"
+
+#include <khz/contact/query/contact_query.hpp>
+#include <khz/haptic/cycle/contact_scene.hpp>
+#include <khz/haptic/device/trajectory_file.hpp>
+#include <khz/run/cycle_log.hpp>
+#include <khz/run/frame_renderer.hpp>
+#include <khz/run/point_states.hpp>
+#include <khz/run/run_scene.hpp>
+#include <khz/run/run_summary.hpp>
+#include <khz/scene/prepare_scene.hpp>
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace khz::run {
+namespace {
+
+using scene::test_scenes::read_options;
+
+/// A 4 cm cube "tool" (random pointshell, 3 levels) held above a 10 cm cube "wall" (field
+/// 24³), whose top face is at y = 0.05; the tool starts touching it, 1 mm deep. With `second
+/// wall`, a second wall "wall2" 10.5 cm to the +x side (its face at x = 0.055) that the tool
+/// touches when moved there. `model` is the tool's "model" (rigid by default).
+nlohmann::json cube_scene(bool second_wall = false, nlohmann::json model = {{"type", "rigid"}}) {
+  nlohmann::json scene = nlohmann::json::parse(R"({
+    "objects": [
+      {"name": "wall", "mesh": "cube.off", "size": 0.1, "centre": true,
+       "roles": ["distance_field"], "field": {"cells": 24}},
+      {"name": "tool", "mesh": "cube.off", "size": 0.04, "centre": true,
+       "pose": {"position": [0, 0.069, 0]}, "roles": ["pointshell"],
+       "pointshell": {"method": "random", "points": 4000, "first_level_points": 50,
+                      "growth": 4, "levels": 3}}
+    ],
+    "haptic": {"object": "tool"},
+    "contact": {"stiffness": 2000, "scaling_count": 10},
+    "coupling": {"stiffness": 300, "saturation_force": 5},
+    "device": {"type": "null", "pose": {"position": [0, 0.069, 0]}},
+    "loop": {"rate_hz": 1000, "duration": 0.2}
+  })");
+  scene["objects"][1]["model"] = std::move(model);
+  if (second_wall) {
+    scene["objects"].push_back(nlohmann::json::parse(R"(
+      {"name": "wall2", "mesh": "cube.off", "size": 0.1, "centre": true,
+       "pose": {"position": [0.105, 0.0, 0.0]}, "roles": ["distance_field"],
+       "field": {"cells": 24}})"));
+  }
+  return scene;
+}
+
+scene::PreparedScene prepare(const nlohmann::json& json) {
+  const scene::SceneDescription description =
+      scene::parse_scene(json.dump(), "test scene", read_options());
+  scene::ProductCache cache(test::scratch_file("run-cache.probe").parent_path() / "run-cache");
+  return scene::prepare_scene(description, cache);
+}
+
+haptic::Pose grasp_at(double x, double y, double z) {
+  haptic::Pose pose;
+  pose.position = {x, y, z};
+  return pose;
+}
+
+// The reference: libhaptic's PointshellFieldScene for the same pair gives the same result.
+TEST(SceneContact, OnePairEqualsLibhapticsPointshellFieldScene) {
+  const scene::PreparedScene prepared = prepare(cube_scene());
+  SceneRuntime runtime(prepared, prepared.description.device);
+  const contact::PointTree& tree = *prepared.objects[1].tree;
+  const contact::DistanceGrid& field = *prepared.objects[0].field;
+  haptic::PointshellFieldScene reference(tree, field, prepared.description.contact,
+                                         runtime.grasp_in_body(), Eigen::Isometry3d::Identity());
+  for (const double y : {0.075, 0.0695, 0.069, 0.0685, 0.068}) {
+    const haptic::Pose grasp = grasp_at(0.003, y, -0.002);
+    const contact::ContactResult* ours = runtime.contact().query(grasp);
+    const contact::ContactResult* theirs = reference.query(grasp);
+    ASSERT_NE(ours, nullptr);
+    ASSERT_NE(theirs, nullptr);
+    EXPECT_EQ(ours->force, theirs->force) << "y = " << y;
+    EXPECT_EQ(ours->torque, theirs->torque);
+    EXPECT_EQ(ours->force_by_translation, theirs->force_by_translation);
+    EXPECT_EQ(ours->torque_by_rotation, theirs->torque_by_rotation);
+    EXPECT_EQ(ours->statistics.points_in_contact, theirs->statistics.points_in_contact);
+  }
+  // Deep enough that the cube's bottom is in contact: the force pushes the tool up.
+  EXPECT_GT(runtime.contact().query(grasp_at(0, 0.068, 0))->force.y(), 0.0);
+}
+
+// Two walls: the sum of two separate queries, one per wall at its own pose.
+TEST(SceneContact, TwoPairsAddUp) {
+  const scene::PreparedScene prepared = prepare(cube_scene(true));
+  SceneRuntime runtime(prepared, prepared.description.device);
+  ASSERT_EQ(runtime.contact().pair_count(), 2);
+  const contact::PointTree& tree = *prepared.objects[1].tree;
+  // In the corner: 2 mm into the first wall's top and 1 mm into the second wall's side.
+  const haptic::Pose grasp = grasp_at(0.036, 0.068, 0.0);
+  const contact::ContactResult* sum = runtime.contact().query(grasp);
+  ASSERT_NE(sum, nullptr);
+
+  Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+  std::int64_t contacts = 0;
+  for (const int wall : {0, 2}) {
+    contact::ContactWorkspace workspace(tree, prepared.description.contact);
+    contact::ContactFrames frames;
+    frames.pointshell.translation() = grasp.position - runtime.grasp_in_body();
+    frames.field.translation() =
+        prepared.description.objects[static_cast<std::size_t>(wall)].pose.position;
+    frames.grasp_point = grasp.position;
+    ASSERT_TRUE(contact::query_contact(
+        tree, *prepared.objects[static_cast<std::size_t>(wall)].field, frames, workspace));
+    EXPECT_GT(workspace.result().statistics.points_in_contact, 0) << "wall " << wall;
+    force += workspace.result().force;
+    torque += workspace.result().torque;
+    contacts += workspace.result().statistics.points_in_contact;
+  }
+  EXPECT_LT((sum->force - force).norm(), 1e-12 * force.norm());
+  EXPECT_LT((sum->torque - torque).norm(), 1e-12 * (torque.norm() + 1e-9));
+  EXPECT_EQ(sum->statistics.points_in_contact, contacts);
+  EXPECT_GT(sum->force.y(), 0.0);  // pushed up by the first wall
+  EXPECT_LT(sum->force.x(), 0.0);  // and back by the second
+}
+
+// A trajectory pressing the tool 3 mm into the wall and lifting it: the run is reproducible,
+// every value finite, the contact force pushes up while pressed and vanishes when lifted.
+TEST(RunScene, TrajectoryPressIsReproducibleAndPushesBack) {
+  std::vector<haptic::TrajectorySample> samples;
+  for (int i = 0; i <= 300; ++i) {
+    haptic::TrajectorySample s;
+    s.time = 1e-3 * i;
+    const double press = i <= 150 ? i / 150.0 : (300 - i) / 150.0;
+    s.pose.position = {0.0, 0.072 - 0.006 * press, 0.0};
+    samples.push_back(s);
+  }
+  const std::filesystem::path trajectory = test::scratch_file("press.csv");
+  std::ofstream(trajectory) << haptic::format_trajectory(samples, false);
+  nlohmann::json json = cube_scene();
+  json["device"] = {{"type", "trajectory"}, {"file", trajectory.string()}};
+  json["loop"].erase("duration");
+  json["objects"][1]["pose"]["position"] = {0.0, 0.072, 0.0};
+  const scene::PreparedScene prepared = prepare(json);
+
+  const auto run_once = [&] {
+    SceneRuntime runtime(prepared, prepared.description.device);
+    EXPECT_NEAR(runtime.natural_duration(), 0.301, 1e-12);
+    return run_scene(runtime);
+  };
+  const std::vector<CycleRow> rows = run_once();
+  const std::vector<CycleRow> again = run_once();
+  ASSERT_EQ(rows.size(), 301u);
+  ASSERT_EQ(again.size(), rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i].force, again[i].force) << "cycle " << i;
+    EXPECT_EQ(rows[i].simulation, again[i].simulation) << "cycle " << i;
+  }
+  const RunSummary summary = summarize(rows, 1e-3);
+  EXPECT_TRUE(summary.finite);
+  EXPECT_EQ(summary.failed_cycles, 0);
+  EXPECT_GT(summary.cycles_in_contact, 50);
+  EXPECT_GT(rows[150].force.y(), 0.5);  // pressed: pushed back up
+  EXPECT_LT(std::abs(rows[150].force.x()), 0.1 * rows[150].force.y());
+  EXPECT_EQ(rows.front().contacts, 0);  // starts 2 mm above
+  EXPECT_EQ(rows.back().contacts, 0);   // and ends there
+  // The coupling holds the tool out of the wall: the simulation stays above the manipulandum.
+  EXPECT_GT(rows[150].simulation.y(), rows[150].manipulandum.y());
+}
+
+TEST(CycleLog, CsvRoundTripIsExactAndMalformedRowsNameTheirLine) {
+  std::vector<CycleRow> rows(3);
+  rows[1].time = 1e-3;
+  rows[1].force = {0.1, -2.5e-7, 3.0 / 7.0};
+  rows[1].nodes = 123456789;
+  rows[1].level = 4;
+  rows[1].complete = false;
+  rows[1].orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()));
+  rows[2].ok = false;
+  const std::filesystem::path file = test::scratch_file("cycles.csv");
+  write_cycle_csv(rows, file);
+  const std::vector<CycleRow> back = read_cycle_csv(file);
+  ASSERT_EQ(back.size(), rows.size());
+  EXPECT_EQ(back[1].force, rows[1].force);
+  EXPECT_EQ(back[1].nodes, rows[1].nodes);
+  EXPECT_EQ(back[1].level, 4);
+  EXPECT_FALSE(back[1].complete);
+  EXPECT_EQ(back[1].orientation.coeffs(), rows[1].orientation.coeffs());
+  EXPECT_FALSE(back[2].ok);
+
+  std::ofstream(file, std::ios::app) << "0.5,1,2\n";
+  try {
+    read_cycle_csv(file);
+    FAIL() << "a short row was accepted";
+  } catch (const reduced::ParseError& error) {
+    EXPECT_EQ(error.line(), 5);
+  }
+  std::ofstream(file) << "t,x,y,z\n";
+  EXPECT_THROW(read_cycle_csv(file), reduced::ParseError);
+}
+
+// The frame's classification finds exactly the points the query counted in contact, every one
+// of them inside the field, and never classifies a point it did not place.
+TEST(PointStates, ContactPointsMatchTheQuery) {
+  const scene::PreparedScene prepared = prepare(cube_scene());
+  SceneRuntime runtime(prepared, prepared.description.device);
+  for (const double y : {0.0695, 0.068, 0.066}) {
+    const contact::ContactResult* result = runtime.contact().query(grasp_at(0.002, y, 0.001));
+    ASSERT_NE(result, nullptr);
+    const std::vector<ContactBody>& bodies = runtime.contact().bodies();
+    const PointPicture picture =
+        classify_points(bodies[1], bodies[0], result->statistics.deepest_level);
+    EXPECT_EQ(picture.count(PointState::in_contact), result->statistics.points_in_contact)
+        << "y = " << y;
+    EXPECT_GT(picture.count(PointState::in_contact), 0);
+    EXPECT_GT(picture.count(PointState::untouched), 0);  // the upper faces are culled
+    const contact::DistanceGrid& field = *prepared.objects[0].field;
+    for (std::size_t s = 0; s < picture.states.size(); ++s) {
+      if (picture.states[s] != PointState::in_contact) continue;
+      EXPECT_LT(field.distance(picture.positions.row(static_cast<Eigen::Index>(s)).transpose()),
+                0.0);
+    }
+  }
+}
+
+// A reduced tool: its integrator is stepped under the contact and deforms.
+TEST(RunScene, ReducedToolDeformsUnderContact) {
+  const nlohmann::json model = nlohmann::json::parse(R"({
+    "type": "reduced",
+    "meshing": {"method": "voxels", "resolution": 6},
+    "material": {"young_modulus": 1e5, "poisson_ratio": 0.3, "density": 1000},
+    "anchors": [{"type": "half_space", "point": [0, 0.015, 0], "normal": [0, 1, 0]}],
+    "basis": {"method": "modes", "k": 4, "r": 6},
+    "integrator": {"mass_damping": 40}
+  })");
+  nlohmann::json json = cube_scene(false, model);
+  json["device"]["pose"]["position"] = {0.0, 0.066, 0.0};
+  const scene::PreparedScene prepared = prepare(json);
+  SceneRuntime runtime(prepared, prepared.description.device);
+  // The largest displacement of the bottom face (in contact, free) and of the anchored top.
+  double bottom = 0.0, top = 0.0;
+  RunOptions options;
+  options.duration = 0.1;
+  options.frame_every = 1;
+  options.on_frame = [&](int, SceneRuntime& r) {
+    const reduced::VertexMatrix deformed = r.deformed_vertices(1);
+    const reduced::VertexMatrix& rest = r.surface(1).vertices;
+    for (Eigen::Index v = 0; v < rest.rows(); ++v) {
+      double& side = rest(v, 1) < 0.0 ? bottom : top;
+      side = std::max(side, (deformed.row(v) - rest.row(v)).norm());
+    }
+    return true;
+  };
+  const std::vector<CycleRow> rows = run_scene(runtime, options);
+  ASSERT_EQ(rows.size(), 100u);
+  const RunSummary summary = summarize(rows, 1e-3);
+  EXPECT_TRUE(summary.finite);
+  EXPECT_EQ(summary.failed_cycles, 0);
+  EXPECT_GT(summary.cycles_in_contact, 50);
+  EXPECT_GT(bottom, 1e-4);  // a tenth of a millimetre at least: pressed by newtons
+  EXPECT_GT(bottom, 2.0 * top);
+}
+
+// Pictures: both objects drawn, contact-coloured points present when in contact and absent when
+// not, the force arrow drawn in its colour.
+TEST(FrameRenderer, ShowsObjectsContactPointsAndForce) {
+  const scene::PreparedScene prepared = prepare(cube_scene());
+  SceneRuntime runtime(prepared, prepared.description.device);
+  FrameOptions options;
+  options.width = 320;
+  options.height = 240;
+  const auto count = [](const render::Image& image, render::Color color) {
+    int n = 0;
+    for (int y = 0; y < image.height(); ++y) {
+      for (int x = 0; x < image.width(); ++x) n += image.pixel(x, y) == color ? 1 : 0;
+    }
+    return n;
+  };
+  const auto non_background = [](const render::Image& image) {
+    int n = 0;
+    for (int y = 0; y < image.height(); ++y) {
+      for (int x = 0; x < image.width(); ++x) {
+        n += image.pixel(x, y) == render::Color{255, 255, 255} ? 0 : 1;
+      }
+    }
+    return n;
+  };
+
+  runtime.device().open();
+  // The null device holds it 1 mm deep; the arrow is drawn as long as the scene's radius.
+  const haptic::CycleRecord& record = runtime.cycle().run(0.0, 1e-3, [] { return 0.0; });
+  ASSERT_GT(record.contact.force.norm(), 0.0);
+  options.arrow_force = record.contact.force.norm();
+  const FrameRenderer renderer(runtime, options);
+  FrameSummary touching;
+  const render::Image pressed = renderer.render(capture_frame(runtime), &touching);
+  EXPECT_GT(touching.in_contact, 0);
+  EXPECT_GT(count(pressed, options.contact_color), 5);
+  EXPECT_GT(count(pressed, options.force_color), 20);
+  EXPECT_GT(non_background(pressed), 320 * 240 / 10);
+
+  runtime.coupling().reset(grasp_at(0.0, 0.09, 0.0));
+  runtime.contact().query(grasp_at(0.0, 0.09, 0.0));
+  FrameSummary apart;
+  const render::Image lifted = renderer.render(capture_frame(runtime), &apart);
+  EXPECT_EQ(apart.in_contact, 0);
+  EXPECT_EQ(count(lifted, options.contact_color), 0);
+}
+
+TEST(RunScene, NullDeviceWithoutDurationIsRefusedWithAHint) {
+  nlohmann::json json = cube_scene();
+  json["loop"].erase("duration");
+  const scene::PreparedScene prepared = prepare(json);
+  SceneRuntime runtime(prepared, prepared.description.device);
+  try {
+    run_scene(runtime);
+    FAIL() << "ran without a duration";
+  } catch (const reduced::Error& error) {
+    EXPECT_NE(std::string(error.what()).find("--duration"), std::string::npos) << error.what();
+  }
+}
+
+TEST(ChooseDevice, HardwareIsRefusedNamingTheAdapters) {
+  const scene::PreparedScene prepared = prepare(cube_scene());
+  DeviceChoice choice;
+  choice.hardware = "openhaptics";
+  const scene::DeviceDescription device = choose_device(prepared.description, choice);
+  try {
+    SceneRuntime runtime(prepared, device);
+    FAIL() << "made a hardware device";
+  } catch (const reduced::Error& error) {
+    EXPECT_NE(std::string(error.what()).find("examples/device_adapters"), std::string::npos);
+  }
+  choice.trajectory = "a.csv";
+  EXPECT_THROW(choose_device(prepared.description, choice), reduced::Error);
+}
+
+}  // namespace
+}  // namespace khz::run

@@ -1,0 +1,69 @@
+#include "commands.hpp"
+#include "scene_session.hpp"
+
+#include <khz/run/run_report.hpp>
+
+#include <algorithm>
+#include <iostream>
+#include <memory>
+
+namespace khz::tool {
+namespace {
+
+/// The largest level count of the scene's pointshell trees.
+int tree_levels(const scene::PreparedScene& prepared) {
+  int levels = 1;
+  for (const scene::PreparedObject& object : prepared.objects) {
+    if (object.tree) levels = std::max(levels, object.tree->num_levels());
+    if (object.deformable_tree) {
+      levels = std::max(levels, object.deformable_tree->tree().num_levels());
+    }
+  }
+  return levels;
+}
+
+/// At most `count` of the frames, evenly spaced, relative to `directory`.
+std::vector<std::filesystem::path> some_frames(const std::vector<std::filesystem::path>& frames,
+                                               const std::filesystem::path& directory,
+                                               std::size_t count) {
+  std::vector<std::filesystem::path> chosen;
+  for (std::size_t k = 0; k < std::min(count, frames.size()); ++k) {
+    const std::size_t i = count == 1 ? 0 : k * (frames.size() - 1) / (count - 1);
+    chosen.push_back(std::filesystem::relative(frames[i], directory));
+  }
+  return chosen;
+}
+
+void report(const RunRequest& request) {
+  SceneSession session(request);
+  RunResult result = session.run(true);
+  run::SceneRuntime& runtime = session.runtime();
+  std::cout << "replaying " << result.states.size() << " states for speed against error\n";
+  const std::vector<run::SweepResult> sweep = run::sweep_contact(
+      runtime, result.states,
+      run::default_sweep(runtime.description().contact, tree_levels(runtime.prepared())));
+  run::ReportInput input;
+  input.scene = request.scene;
+  input.description = runtime.description().description;
+  input.rate_hz = runtime.description().loop.rate_hz;
+  input.rows = std::move(result.rows);
+  input.sweep = sweep;
+  input.frames = some_frames(result.frames, session.out(), 4);
+  const run::ReportFiles files = run::write_report(session.out(), input);
+  std::cout << "wrote " << files.markdown.string() << "\n";
+}
+
+}  // namespace
+
+void add_report_command(CLI::App& app) {
+  auto request = std::make_shared<RunRequest>();
+  CLI::App* command = app.add_subcommand(
+      "report",
+      "Run a scene as `khz run` does, then replay its states in contact at every level of "
+      "detail and under time budgets, and write report.md with PNG plots: force and torque "
+      "over time, per-cycle cost, and the contact query's speed against error");
+  add_run_options(*command, *request);
+  command->callback([request] { report(*request); });
+}
+
+}  // namespace khz::tool

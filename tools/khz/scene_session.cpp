@@ -1,0 +1,152 @@
+#include "scene_session.hpp"
+
+#include "scene_preparation.hpp"
+
+#include <khz/render/png_file.hpp>
+#include <khz/run/frame_renderer.hpp>
+#include <khz/run/frame_series.hpp>
+#include <khz/run/run_scene.hpp>
+#include <khz/run/run_summary.hpp>
+#include <khz/scene/read_scene.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <optional>
+
+namespace khz::tool {
+namespace {
+
+std::filesystem::path frame_file(const std::filesystem::path& directory, int frame) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%05d.png", frame);
+  return directory / name;
+}
+
+scene::PreparedScene prepare(const RunRequest& request) {
+  return prepare_with_progress(scene::read_scene(request.scene),
+                               cache_directory(request.cache, request.scene), std::cout);
+}
+
+}  // namespace
+
+void add_run_options(CLI::App& command, RunRequest& request) {
+  command.add_option("scene", request.scene, "Scene file (JSON, docs/SCENES.md)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  CLI::Option* trajectory =
+      command
+          .add_option("--trajectory", request.trajectory,
+                      "Replay this trajectory CSV instead of the scene's device")
+          ->check(CLI::ExistingFile);
+  CLI::Option* script =
+      command
+          .add_option("--operator", request.operator_script,
+                      "Drive the scene with this device file instead (JSON like the scene's "
+                      "\"device\", e.g. an operator's keyframes)")
+          ->check(CLI::ExistingFile);
+  CLI::Option* device = command.add_option(
+      "--device", request.device, "Use this hardware device backend (none is built into khz)");
+  trajectory->excludes(script)->excludes(device);
+  script->excludes(device);
+  command.add_option("--out", request.out, "Output directory (default: khz-run/<scene name>)");
+  command.add_option("--cache", request.cache,
+                     "Product cache directory (default: $XDG_CACHE_HOME/kilohertz, else "
+                     "~/.cache/kilohertz)");
+  command
+      .add_option("--duration", request.duration,
+                  "Simulated seconds (default: loop.duration, or the trajectory's or operator's "
+                  "length)")
+      ->check(CLI::NonNegativeNumber);
+  command.add_option("--frames", request.frame_rate, "PNG frames per simulated second; 0: none")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command.add_option("--width", request.width, "Frame width (pixels)")
+      ->capture_default_str()
+      ->check(CLI::Range(16, 8192));
+  command.add_option("--height", request.height, "Frame height (pixels)")
+      ->capture_default_str()
+      ->check(CLI::Range(16, 8192));
+  command.add_flag("--paraview", request.paraview,
+                   "Also write each frame as a ParaView time series (<out>/paraview/run.pvd: "
+                   "surfaces, pointshell points with their state, the force)");
+}
+
+SceneSession::SceneSession(const RunRequest& request)
+    : m_request(request),
+      m_out(request.out.empty()
+                ? std::filesystem::path("khz-run") / std::filesystem::path(request.scene).stem()
+                : std::filesystem::path(request.out)),
+      m_prepared(prepare(request)) {
+  run::DeviceChoice choice;
+  choice.trajectory = request.trajectory;
+  choice.operator_script = request.operator_script;
+  choice.hardware = request.device;
+  m_runtime = std::make_unique<run::SceneRuntime>(
+      m_prepared, run::choose_device(m_prepared.description, choice));
+}
+
+SceneSession::~SceneSession() = default;
+
+RunResult SceneSession::run(bool record_states) {
+  const scene::SceneDescription& description = m_prepared.description;
+  const std::filesystem::path frames = m_out / "frames";
+  std::filesystem::create_directories(m_out);
+  std::filesystem::remove_all(frames);
+  std::optional<run::FrameRenderer> renderer;
+  std::optional<run::FrameSeries> series;
+  int frame_every = 0;
+  RunResult result;
+  if (m_request.frame_rate > 0.0) {
+    std::filesystem::create_directories(frames);
+    run::FrameOptions options;
+    options.width = m_request.width;
+    options.height = m_request.height;
+    renderer.emplace(*m_runtime, options);
+    frame_every =
+        std::max(1, static_cast<int>(std::lround(description.loop.rate_hz / m_request.frame_rate)));
+    if (m_request.paraview) {
+      series.emplace(*m_runtime, m_out / "paraview");
+      result.paraview = series->collection_file();
+    }
+  }
+
+  const InterruptRequest interrupt;
+  run::RunOptions options;
+  options.duration = m_request.duration;
+  options.frame_every = record_states || frame_every == 0 ? 1 : frame_every;
+  options.on_frame = [&](int cycle, run::SceneRuntime& runtime) {
+    if (record_states) result.states.push_back(run::record_state(runtime));
+    if (renderer && cycle % frame_every == 0) {
+      const run::FrameContent frame = run::capture_frame(runtime);
+      result.frames.push_back(frame_file(frames, static_cast<int>(result.frames.size())));
+      render::write_png(renderer->render(frame), result.frames.back());
+      if (series) series->write(frame);
+    }
+    return !interrupt.requested();
+  };
+
+  std::cout << "running " << m_request.scene << "\n";
+  const auto start = std::chrono::steady_clock::now();
+  result.rows = run::run_scene(*m_runtime, options);
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.interrupted = interrupt.requested();
+  result.csv = m_out / "cycles.csv";
+  run::write_cycle_csv(result.rows, result.csv);
+
+  const run::RunSummary summary = run::summarize(result.rows, 1.0 / description.loop.rate_hz);
+  run::print_summary(std::cout, summary);
+  std::cout << "wall time: " << wall << " s" << (result.interrupted ? " (interrupted)" : "")
+            << "\nwrote " << result.csv.string();
+  if (!result.frames.empty()) {
+    std::cout << " and " << result.frames.size() << " frames in " << frames.string();
+  }
+  if (!result.paraview.empty()) std::cout << "\nwrote " << result.paraview.string();
+  std::cout << "\n";
+  if (!summary.finite) throw reduced::Error("the run produced non-finite forces or poses");
+  return result;
+}
+
+}  // namespace khz::tool

@@ -1,0 +1,64 @@
+#pragma once
+// What `khz run` and `khz report` share: their options, and a scene read, prepared and run in
+// simulated time with its per-cycle CSV and PNG frames written.
+
+#include <khz/run/contact_sweep.hpp>
+#include <khz/run/cycle_log.hpp>
+#include <khz/run/scene_runtime.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace khz::tool {
+
+/// The command line of a scene run.
+struct RunRequest {
+  std::string scene, cache, out, trajectory, operator_script, device;
+  double duration = 0.0;     ///< 0: the scene's.
+  double frame_rate = 10.0;  ///< PNG frames per simulated second; 0: none.
+  int width = 800, height = 600;
+  bool paraview = false;  ///< Also write the frames as a ParaView time series.
+};
+
+/// Registers the options of RunRequest on `command` (scene, --trajectory | --operator |
+/// --device, --out, --cache, --duration, --frames, --width, --height, --paraview).
+void add_run_options(CLI::App& command, RunRequest& request);
+
+/// What a run wrote and kept.
+struct RunResult {
+  std::vector<run::CycleRow> rows;
+  std::filesystem::path csv;                  ///< <out>/cycles.csv
+  std::vector<std::filesystem::path> frames;  ///< <out>/frames/frame_NNNNN.png
+  std::filesystem::path paraview;             ///< <out>/paraview/run.pvd, if written
+  std::vector<run::RecordedState> states;     ///< Every cycle's, when asked for.
+  bool interrupted = false;                   ///< Ctrl-C stopped it early.
+};
+
+/// A scene read, prepared (progress bars on stderr, summary on stdout) and made runnable.
+class SceneSession {
+ public:
+  /// @throws what reading, preparing or SceneRuntime throw.
+  explicit SceneSession(const RunRequest& request);
+  ~SceneSession();
+
+  /// The output directory: --out, or khz-run/<scene file stem>.
+  const std::filesystem::path& out() const noexcept { return m_out; }
+  run::SceneRuntime& runtime() noexcept { return *m_runtime; }
+
+  /// Runs the scene (run::run_scene()), writes cycles.csv and the frames, prints the summary.
+  /// With `record_states`, keeps every cycle's state for run::sweep_contact().
+  /// @throws reduced::Error if the run produced non-finite values (after writing the CSV).
+  RunResult run(bool record_states);
+
+ private:
+  RunRequest m_request;
+  std::filesystem::path m_out;
+  scene::PreparedScene m_prepared;
+  std::unique_ptr<run::SceneRuntime> m_runtime;
+};
+
+}  // namespace khz::tool

@@ -1,0 +1,58 @@
+#pragma once
+// Speed against error of the contact query on a recorded run: the same states queried at every
+// fixed level of detail and under time budgets, each compared with the full traversal (thesis
+// §3.5.1, §3.10.3, Table 3.1).
+
+#include <khz/run/run_summary.hpp>
+#include <khz/run/scene_runtime.hpp>
+
+#include <string>
+#include <vector>
+
+namespace khz::run {
+
+/// Where everything was in one cycle: the held object's grasp frame and every reduced object's
+/// q (empty for rigid objects).
+struct RecordedState {
+  haptic::Pose grasp;
+  std::vector<Eigen::VectorXd> coordinates;
+};
+
+/// The state of `runtime` now (for RunOptions::on_frame with frame_every = 1).
+RecordedState record_state(const SceneRuntime& runtime);
+
+/// One way of querying contact: a name for tables and legends and the options.
+struct SweepSetting {
+  std::string name;
+  contact::ContactOptions options;
+};
+
+/// The settings `khz report` compares, all derived from the scene's contact options with
+/// temporal coherence off (it changes cost, never the result): first the reference, every
+/// level and no degradation; then each fixed level 0 … levels − 2; then time budgets of 50,
+/// 100 and 250 µs (with the scene's cold fraction and contact weight).
+/// @param levels the pointshell trees' level count (the largest over the scene's pointshells).
+std::vector<SweepSetting> default_sweep(const contact::ContactOptions& scene_options, int levels);
+
+/// How one setting did over the replayed states.
+struct SweepResult {
+  std::string name;
+  Spread query_us;               ///< Query cost over the states in contact (µs).
+  double mean_nodes = 0.0;       ///< Nodes traversed per query, states in contact.
+  double force_error = 0.0;      ///< RMS |F − F_ref| / RMS |F_ref| over the states in contact.
+  double torque_error = 0.0;     ///< The same for the torque.
+  double max_force_error = 0.0;  ///< max |F − F_ref| / max |F_ref|.
+};
+
+/// Replays `states` (those where the reference finds contact; at most `max_states` of them,
+/// evenly spaced) through `runtime`'s contact query under each setting in turn, the first
+/// setting being the reference, and restores the scene's options afterwards. Each setting
+/// starts from a reset workspace and sees the states in order, so time budgets warm up as in
+/// a run.
+/// @throws reduced::Error if `settings` is empty, or as SceneRuntime::set_coordinates().
+std::vector<SweepResult> sweep_contact(SceneRuntime& runtime,
+                                       const std::vector<RecordedState>& states,
+                                       const std::vector<SweepSetting>& settings,
+                                       std::size_t max_states = 2000);
+
+}  // namespace khz::run

@@ -1,0 +1,56 @@
+#pragma once
+// What `khz run` records per haptic cycle, and its CSV file (read back by `khz report` and
+// `khz info`).
+
+#include <khz/haptic/cycle/haptic_cycle.hpp>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace khz::run {
+
+/// One haptic cycle as logged. Forces are world axes; the torque is about the held object's
+/// grasp point.
+struct CycleRow {
+  double time = 0.0;                                 ///< s, the cycle's start.
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< Contact force on the held object (N).
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();  ///< Contact torque (N·m).
+  Eigen::Vector3d rendered_force = Eigen::Vector3d::Zero();   ///< What the device got (N).
+  Eigen::Vector3d rendered_torque = Eigen::Vector3d::Zero();  ///< (N·m).
+  std::int64_t nodes = 0;                                     ///< Tree nodes traversed, all pairs.
+  std::int64_t skipped = 0;                                   ///< Nodes temporal coherence skipped.
+  std::int64_t contacts = 0;                                  ///< Points in contact.
+  int level = -1;                                             ///< Deepest tree level rendered.
+  bool complete = true;   ///< No level was cut by graceful degradation.
+  double query_us = 0.0;  ///< Contact queries (µs, steady clock).
+  double cycle_us = 0.0;  ///< The whole cycle (µs): device, query, coupling, time steps.
+  Eigen::Vector3d manipulandum = Eigen::Vector3d::Zero();  ///< Device grasp point, world (m).
+  Eigen::Vector3d simulation = Eigen::Vector3d::Zero();    ///< Held object's grasp point (m).
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< Held object's.
+  bool ok = true;  ///< Device read, query, coupling and every time step succeeded.
+
+  /// The row of a cycle's record, with the cycle's measured cost.
+  static CycleRow from(const haptic::CycleRecord& record, double cycle_us) noexcept;
+};
+
+/// The CSV header line `khz run` writes (without newline): time, force_x … torque_z,
+/// rendered_force_x … rendered_torque_z, nodes, skipped, contacts, level, complete, query_us,
+/// cycle_us, manipulandum_x … z, simulation_x … z, orientation_w, _x, _y, _z, ok.
+std::string cycle_csv_header();
+
+/// Writes the rows as CSV (header first; each number as the shortest text that reads back to
+/// the same double, so read_cycle_csv() returns the rows exactly).
+/// @throws reduced::IoError naming the file if it cannot be written.
+void write_cycle_csv(const std::vector<CycleRow>& rows, const std::filesystem::path& file);
+
+/// Reads a file write_cycle_csv() wrote.
+/// @throws reduced::IoError if it cannot be read; reduced::ParseError (file:line) if the
+///         header is not cycle_csv_header() or a row does not have its columns as numbers.
+std::vector<CycleRow> read_cycle_csv(const std::filesystem::path& file);
+
+}  // namespace khz::run

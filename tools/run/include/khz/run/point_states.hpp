@@ -1,0 +1,41 @@
+#pragma once
+// Which pointshell points a contact query looks at and which touch (thesis Figure 3.1), for
+// pictures and ParaView files of a run.
+
+#include <khz/reduced/mesh/triangle_mesh.hpp>
+#include <khz/run/scene_contact.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace khz::run {
+
+/// What the traversal did with a point.
+enum class PointState : std::uint8_t {
+  untouched = 0,   ///< In a culled subtree: never looked at.
+  traversed = 1,   ///< Its distance was looked up; not in contact.
+  in_contact = 2,  ///< On the deepest level rendered, inside the field (d < 0).
+};
+
+/// A pointshell's points down to some level, placed in the world and classified.
+struct PointPicture {
+  reduced::VertexMatrix positions;  ///< World positions (m) of the tree's points on levels ≤ L.
+  std::vector<PointState> states;   ///< One per row of `positions`.
+  /// How many are in each state, indexed by PointState.
+  std::int64_t count(PointState state) const noexcept;
+};
+
+/// Replays the culling of a contact query (§3.10.1) for one pair as the objects are now: level 0
+/// is looked at whole; a node's children are looked at when its point's distance d does not
+/// exceed its bounding radius (rest radius, or eq. 3.12's R_i(q) for a deformable pointshell);
+/// on `deepest_level` (the query's ContactStatistics::deepest_level, clamped to the tree) a point
+/// with d < 0 is in contact. This is what a query without temporal coherence visits; one with
+/// coherence skips some of these nodes but finds the same contacts. Not for the haptic thread
+/// (allocates; one distance lookup per node, as the query).
+/// @param pointshell an object with a tree (ContactBody::tree), at its pose and q.
+/// @param field an object with a field (ContactBody::field), at its pose.
+/// @param deepest_level < 0 gives an empty picture.
+PointPicture classify_points(const ContactBody& pointshell, const ContactBody& field,
+                             int deepest_level);
+
+}  // namespace khz::run

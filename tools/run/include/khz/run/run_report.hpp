@@ -1,0 +1,39 @@
+#pragma once
+// The report `khz report` writes: Markdown with the run's figures and the contact query's
+// speed against error, and PNG plots of force, torque, per-cycle cost and speed against error.
+
+#include <khz/run/contact_sweep.hpp>
+#include <khz/run/cycle_log.hpp>
+#include <khz/run/run_summary.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace khz::run {
+
+/// What a report is made of.
+struct ReportInput {
+  std::string scene;        ///< The scene file as named.
+  std::string description;  ///< The scene's description text.
+  double rate_hz = 1000.0;  ///< The loop's rate.
+  std::vector<CycleRow> rows;
+  std::vector<SweepResult> sweep;  ///< First entry: the reference (may be empty: no contact).
+  /// Frame pictures to show, relative to the report's directory.
+  std::vector<std::filesystem::path> frames;
+};
+
+/// The files write_report() makes, in `directory`.
+struct ReportFiles {
+  std::filesystem::path markdown;     ///< report.md
+  std::filesystem::path force_plot;   ///< force.png: |F| contact and rendered, over time.
+  std::filesystem::path torque_plot;  ///< torque.png: |T| over time.
+  std::filesystem::path cost_plot;    ///< cost.png: µs per cycle and per query over time.
+  std::filesystem::path speed_plot;   ///< speed_vs_error.png (only with a sweep).
+};
+
+/// Writes report.md and the plots into `directory` (created if needed).
+/// @throws reduced::IoError naming a file that cannot be written.
+ReportFiles write_report(const std::filesystem::path& directory, const ReportInput& input);
+
+}  // namespace khz::run

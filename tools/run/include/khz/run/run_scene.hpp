@@ -1,0 +1,35 @@
+#pragma once
+// Running a scene in simulated time: the haptic cycle at the loop's period, as fast as the
+// machine goes, each cycle's cost measured and logged (what `khz run` does).
+
+#include <khz/run/cycle_log.hpp>
+#include <khz/run/scene_runtime.hpp>
+
+#include <functional>
+#include <vector>
+
+namespace khz::run {
+
+/// Options of run_scene().
+struct RunOptions {
+  /// Simulated seconds to run, > 0; 0 takes SceneRuntime::natural_duration().
+  double duration = 0.0;
+  /// Called between cycles — outside the timed part — after every `frame_every`-th cycle
+  /// (cycle 0 first) with the cycle's index: render, write files, report progress. Return false
+  /// to stop the run early.
+  std::function<bool(int cycle, SceneRuntime& runtime)> on_frame;
+  /// ≥ 1; cycles between on_frame calls.
+  int frame_every = 33;
+};
+
+/// Opens the device and runs ⌈duration · rate_hz⌉ cycles of runtime.cycle() at simulated times
+/// t = i / rate_hz. Each cycle's cost is measured on the steady clock, but the device's
+/// watchdog sees the simulated clock (a cycle takes no simulated time), so the run is
+/// reproducible: the same scene and inputs give the same rows on any machine, whatever its
+/// speed; only the µs columns differ. The device is closed at the end (also on throw).
+/// @returns one row per cycle.
+/// @throws reduced::Error if the duration is 0 and the device gives none (null and hardware
+///         devices: set loop.duration), or as the device's open().
+std::vector<CycleRow> run_scene(SceneRuntime& runtime, const RunOptions& options = {});
+
+}  // namespace khz::run

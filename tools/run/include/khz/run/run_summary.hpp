@@ -1,0 +1,48 @@
+#pragma once
+// The figures of a run that `khz run` prints and `khz report` tabulates.
+
+#include <khz/run/cycle_log.hpp>
+
+#include <cstdint>
+#include <iosfwd>
+#include <vector>
+
+namespace khz::run {
+
+/// Mean and quantiles of a per-cycle quantity.
+struct Spread {
+  double mean = 0.0;
+  double p50 = 0.0;
+  double p99 = 0.0;
+  double max = 0.0;
+};
+
+/// Mean, median, 99th percentile (nearest rank) and maximum; all zero for no values.
+Spread spread(std::vector<double> values);
+
+/// A run in figures.
+struct RunSummary {
+  std::int64_t cycles = 0;
+  double duration = 0.0;               ///< Simulated s: the last cycle's time plus one period.
+  Spread cycle_us;                     ///< Whole cycle, all cycles.
+  Spread query_us;                     ///< Contact queries, all cycles.
+  Spread query_us_in_contact;          ///< Contact queries, cycles with points in contact.
+  std::int64_t cycles_in_contact = 0;  ///< Cycles with at least one point in contact.
+  std::int64_t failed_cycles = 0;      ///< Rows with ok false.
+  std::int64_t incomplete_cycles = 0;  ///< Rows where degradation cut a level.
+  std::int64_t max_contacts = 0;       ///< Points in contact, most in one cycle.
+  std::int64_t max_nodes = 0;          ///< Nodes traversed, most in one cycle.
+  int deepest_level = -1;              ///< Deepest level any cycle rendered.
+  double max_force = 0.0;              ///< Largest |contact force| (N).
+  double max_torque = 0.0;             ///< Largest |contact torque| (N·m).
+  double max_rendered_force = 0.0;     ///< Largest |rendered force| (N).
+  bool finite = true;                  ///< Every force, torque and pose is finite.
+};
+
+/// The summary of a run's rows (empty rows give the defaults); `period` is 1 / rate (s).
+RunSummary summarize(const std::vector<CycleRow>& rows, double period);
+
+/// Prints the summary as a few aligned lines (what `khz run` ends with).
+void print_summary(std::ostream& out, const RunSummary& summary);
+
+}  // namespace khz::run

@@ -1,0 +1,130 @@
+#include <khz/run/contact_sweep.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <tuple>
+
+namespace khz::run {
+
+RecordedState record_state(const SceneRuntime& runtime) {
+  RecordedState state;
+  state.grasp = runtime.cycle().record().simulation;
+  for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
+    state.coordinates.push_back(runtime.coordinates(i));
+  }
+  return state;
+}
+
+std::vector<SweepSetting> default_sweep(const contact::ContactOptions& scene_options, int levels) {
+  contact::ContactOptions base = scene_options;
+  base.coherence.enabled = false;
+  base.max_level = -1;
+  base.degradation.mode = contact::DegradationOptions::Mode::none;
+  std::vector<SweepSetting> settings{{"all levels (reference)", base}};
+  for (int level = 0; level + 1 < levels; ++level) {
+    contact::ContactOptions fixed = base;
+    fixed.max_level = level;
+    settings.push_back({"level " + std::to_string(level), fixed});
+  }
+  for (const double budget : {50.0, 100.0, 250.0}) {
+    contact::ContactOptions timed = base;
+    timed.degradation = scene_options.degradation;
+    timed.degradation.mode = contact::DegradationOptions::Mode::time_budget;
+    timed.degradation.budget_microseconds = budget;
+    settings.push_back({"budget " + std::to_string(static_cast<int>(budget)) + " us", timed});
+  }
+  return settings;
+}
+
+namespace {
+
+void apply(SceneRuntime& runtime, const RecordedState& state) {
+  for (std::size_t i = 0; i < state.coordinates.size(); ++i) {
+    if (state.coordinates[i].size() > 0)
+      runtime.set_coordinates(static_cast<int>(i), state.coordinates[i]);
+  }
+}
+
+struct Replay {
+  std::vector<Eigen::Vector3d> force, torque;
+  std::vector<double> us, nodes;
+};
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+Replay replay(SceneRuntime& runtime, const std::vector<const RecordedState*>& states,
+              const contact::ContactOptions& options) {
+  runtime.contact().set_options(options);
+  Replay r;
+  for (const RecordedState* state : states) {
+    apply(runtime, *state);
+    const contact::ContactResult* result = runtime.contact().query(state->grasp);
+    const bool ok = result != nullptr;
+    r.force.push_back(ok ? result->force : Eigen::Vector3d::Constant(nan));
+    r.torque.push_back(ok ? result->torque : Eigen::Vector3d::Constant(nan));
+    r.us.push_back(ok ? result->statistics.microseconds : nan);
+    r.nodes.push_back(ok ? static_cast<double>(result->statistics.nodes_traversed) : nan);
+  }
+  return r;
+}
+
+/// RMS |a − b| / RMS |b|, and max |a − b| / max |b| (0 when b is all zero).
+std::pair<double, double> relative_errors(const std::vector<Eigen::Vector3d>& a,
+                                          const std::vector<Eigen::Vector3d>& b) {
+  double difference = 0.0, reference = 0.0, max_difference = 0.0, max_reference = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const double d = (a[i] - b[i]).norm();
+    difference += d * d;
+    reference += b[i].squaredNorm();
+    max_difference = std::max(max_difference, d);
+    max_reference = std::max(max_reference, b[i].norm());
+  }
+  if (!(reference > 0.0)) return {0.0, 0.0};
+  return {std::sqrt(difference / reference), max_difference / max_reference};
+}
+
+}  // namespace
+
+std::vector<SweepResult> sweep_contact(SceneRuntime& runtime,
+                                       const std::vector<RecordedState>& states,
+                                       const std::vector<SweepSetting>& settings,
+                                       std::size_t max_states) {
+  if (settings.empty()) throw reduced::Error("sweep_contact: no settings");
+  // The states in contact under the reference, evenly thinned to max_states.
+  std::vector<const RecordedState*> all;
+  for (const RecordedState& state : states) all.push_back(&state);
+  const Replay probe = replay(runtime, all, settings.front().options);
+  std::vector<const RecordedState*> touching;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (probe.force[i].allFinite() && probe.force[i].squaredNorm() > 0.0) {
+      touching.push_back(all[i]);
+    }
+  }
+  if (touching.size() > max_states) {
+    std::vector<const RecordedState*> thinned;
+    for (std::size_t k = 0; k < max_states; ++k) {
+      thinned.push_back(touching[k * touching.size() / max_states]);
+    }
+    touching = std::move(thinned);
+  }
+
+  std::vector<SweepResult> results;
+  Replay reference;
+  for (const SweepSetting& setting : settings) {
+    Replay r = replay(runtime, touching, setting.options);
+    if (results.empty()) reference = r;
+    SweepResult result;
+    result.name = setting.name;
+    result.query_us = spread(r.us);
+    for (const double n : r.nodes) result.mean_nodes += n / static_cast<double>(r.nodes.size());
+    std::tie(result.force_error, result.max_force_error) =
+        relative_errors(r.force, reference.force);
+    result.torque_error = relative_errors(r.torque, reference.torque).first;
+    results.push_back(result);
+  }
+  runtime.contact().set_options(runtime.description().contact);
+  return results;
+}
+
+}  // namespace khz::run

@@ -1,0 +1,99 @@
+#include <khz/render/rasterizer.hpp>
+#include <khz/run/frame_renderer.hpp>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+namespace khz::run {
+namespace {
+
+constexpr double vertical_fov = 35.0 * std::numbers::pi / 180.0;
+
+/// The world bounding box of every object's surface at its current pose.
+Eigen::AlignedBox3d scene_box(const SceneRuntime& runtime) {
+  Eigen::AlignedBox3d box;
+  for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
+    const reduced::TriangleMesh& surface = runtime.surface(i);
+    for (Eigen::Index v = 0; v < surface.vertices.rows(); ++v) {
+      box.extend(runtime.pose(i) * Eigen::Vector3d(surface.vertices.row(v)));
+    }
+  }
+  return box;
+}
+
+render::Camera frame_camera(const SceneRuntime& runtime, const FrameOptions& options,
+                            double& radius) {
+  if (options.width < 16 || options.height < 16) {
+    throw reduced::Error("FrameOptions: width and height must be at least 16 pixels");
+  }
+  const Eigen::AlignedBox3d box = scene_box(runtime);
+  radius = std::max(0.5 * box.diagonal().norm(), 1e-6);
+  const double fov = std::min(vertical_fov, vertical_fov * options.width / options.height);
+  const double distance = 1.05 * radius / std::sin(0.5 * fov);
+  const Eigen::Vector3d eye = box.center() + distance * options.view_direction.normalized();
+  return render::Camera(eye, box.center(), options.up, vertical_fov, options.width, options.height);
+}
+
+}  // namespace
+
+FrameRenderer::FrameRenderer(const SceneRuntime& runtime, const FrameOptions& options)
+    : m_options(options),
+      m_held(runtime.held_object()),
+      m_camera(frame_camera(runtime, options, m_scene_radius)) {
+  for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
+    m_triangles.push_back(runtime.surface(i).triangles);
+  }
+  const double saturation = runtime.description().coupling.saturation_force;
+  m_reference_force = options.arrow_force > 0.0                       ? options.arrow_force
+                      : std::isfinite(saturation) && saturation > 0.0 ? saturation
+                                                                      : 1.0;
+}
+
+render::Image FrameRenderer::render(const FrameContent& frame, FrameSummary* summary) const {
+  render::Rasterizer rasterizer(m_camera);
+  for (std::size_t i = 0; i < frame.surfaces.size(); ++i) {
+    render::MeshStyle style;
+    style.color = static_cast<int>(i) == m_held ? m_options.held_color : m_options.other_color;
+    // Gouraud shading for curved (finely triangulated) surfaces; boxes keep their edges.
+    style.smooth = m_triangles[i].rows() > 200;
+    rasterizer.draw_mesh(frame.surfaces[i], m_triangles[i], style);
+  }
+
+  FrameSummary counts;
+  for (const PointPicture& picture : frame.points) {
+    // Points looked at are depth-tested; points in contact lie inside the other object, so
+    // they are drawn over it.
+    for (const PointState state : {PointState::traversed, PointState::in_contact}) {
+      reduced::VertexMatrix shown(picture.positions.rows(), 3);
+      Eigen::Index count = 0;
+      for (std::size_t s = 0; s < picture.states.size(); ++s) {
+        if (picture.states[s] == state) {
+          shown.row(count++) = picture.positions.row(static_cast<Eigen::Index>(s));
+        }
+      }
+      shown.conservativeResize(count, 3);
+      const bool touching = state == PointState::in_contact;
+      (touching ? counts.in_contact : counts.traversed) += count;
+      const render::Color color = touching ? m_options.contact_color : m_options.traversed_color;
+      render::PointStyle style;
+      style.radius = 2.0;
+      style.always_on_top = touching;
+      rasterizer.draw_points(shown, std::span(&color, 1), style);
+    }
+  }
+
+  const Eigen::Vector3d tip =
+      frame.grasp_point + frame.force * (m_scene_radius / m_reference_force);
+  if ((tip - frame.grasp_point).norm() > 1e-3 * m_scene_radius) {
+    render::ArrowStyle style;
+    style.color = m_options.force_color;
+    style.always_on_top = true;
+    rasterizer.draw_arrow(frame.grasp_point, tip, style);
+  }
+  if (summary != nullptr) *summary = counts;
+  return rasterizer.image();
+}
+
+}  // namespace khz::run

@@ -1,0 +1,127 @@
+#include <khz/plot/line_plot.hpp>
+#include <khz/reduced/errors.hpp>
+#include <khz/run/run_report.hpp>
+
+#include <cstdio>
+#include <fstream>
+
+namespace khz::run {
+namespace {
+
+constexpr render::Color blue{31, 119, 180}, orange{255, 127, 14}, green{44, 160, 44};
+
+std::string format(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+plot::Series over_time(const std::vector<CycleRow>& rows, std::string label, render::Color color,
+                       double (*value)(const CycleRow&)) {
+  plot::Series series{std::move(label), {}, {}, color, false};
+  for (const CycleRow& row : rows) {
+    series.x.push_back(row.time);
+    series.y.push_back(value(row));
+  }
+  return series;
+}
+
+void write_markdown(const std::filesystem::path& file, const ReportInput& input,
+                    const RunSummary& s, const ReportFiles& files) {
+  std::ofstream out(file);
+  if (!out) throw reduced::IoError("cannot write " + file.string());
+  out << "# Run report: " << input.scene << "\n\n";
+  if (!input.description.empty()) out << input.description << "\n\n";
+  out << "## The run\n\n"
+      << "| figure | value |\n|---|---|\n"
+      << "| cycles | " << s.cycles << " at " << input.rate_hz << " Hz ("
+      << format("%.3f", s.duration) << " s simulated) |\n"
+      << "| cycles in contact | " << s.cycles_in_contact << " |\n"
+      << "| µs per cycle, mean / p99 / max | " << format("%.1f", s.cycle_us.mean) << " / "
+      << format("%.1f", s.cycle_us.p99) << " / " << format("%.1f", s.cycle_us.max) << " |\n"
+      << "| µs per query in contact, mean / p99 | " << format("%.1f", s.query_us_in_contact.mean)
+      << " / " << format("%.1f", s.query_us_in_contact.p99) << " |\n"
+      << "| most points in contact | " << s.max_contacts << " |\n"
+      << "| most nodes traversed | " << s.max_nodes << " |\n"
+      << "| deepest level | " << s.deepest_level << " |\n"
+      << "| cycles cut by degradation | " << s.incomplete_cycles << " |\n"
+      << "| largest contact force | " << format("%.3f", s.max_force) << " N |\n"
+      << "| largest rendered force | " << format("%.3f", s.max_rendered_force) << " N |\n"
+      << "| failed cycles | " << s.failed_cycles << " |\n"
+      << "| all values finite | " << (s.finite ? "yes" : "**no**") << " |\n\n"
+      << "Times are wall-clock on this machine, measured in a simulated-time run (the machine "
+         "was not reserved); benchmarks/ has the controlled figures.\n\n"
+      << "![force](" << files.force_plot.filename().string() << ")\n\n"
+      << "![torque](" << files.torque_plot.filename().string() << ")\n\n"
+      << "![cost per cycle](" << files.cost_plot.filename().string() << ")\n\n";
+  if (!input.sweep.empty()) {
+    out << "## Speed against error of the contact query\n\n"
+        << "The recorded states in contact, queried again under each setting (temporal "
+           "coherence off) and compared with the full traversal.\n\n"
+        << "| setting | µs mean | µs p99 | nodes | force error (RMS) | force error (max) | "
+           "torque error (RMS) |\n|---|---|---|---|---|---|---|\n";
+    for (const SweepResult& r : input.sweep) {
+      out << "| " << r.name << " | " << format("%.1f", r.query_us.mean) << " | "
+          << format("%.1f", r.query_us.p99) << " | " << format("%.0f", r.mean_nodes) << " | "
+          << format("%.2f %%", 100.0 * r.force_error) << " | "
+          << format("%.2f %%", 100.0 * r.max_force_error) << " | "
+          << format("%.2f %%", 100.0 * r.torque_error) << " |\n";
+    }
+    out << "\n![speed against error](" << files.speed_plot.filename().string() << ")\n\n";
+  }
+  if (!input.frames.empty()) {
+    out << "## Frames\n\nYellow: pointshell points the query looked at; red: points in contact "
+           "(drawn through the other object); green: the contact force on the held object.\n\n";
+    for (const std::filesystem::path& frame : input.frames) {
+      out << "![" << frame.stem().string() << "](" << frame.string() << ")\n";
+    }
+  }
+  if (!out.flush()) throw reduced::IoError("cannot write " + file.string());
+}
+
+}  // namespace
+
+ReportFiles write_report(const std::filesystem::path& directory, const ReportInput& input) {
+  std::filesystem::create_directories(directory);
+  ReportFiles files{directory / "report.md",
+                    directory / "force.png",
+                    directory / "torque.png",
+                    directory / "cost.png",
+                    {}};
+  const std::vector<CycleRow>& rows = input.rows;
+  plot::write_line_plot(
+      files.force_plot, {"Force on the held object", "time (s)", "force (N)"},
+      {over_time(rows, "contact |F|", blue, [](const CycleRow& r) { return r.force.norm(); }),
+       over_time(rows, "rendered |F|", orange,
+                 [](const CycleRow& r) { return r.rendered_force.norm(); })});
+  plot::write_line_plot(
+      files.torque_plot, {"Torque on the held object", "time (s)", "torque (N m)"},
+      {over_time(rows, "contact |T|", blue, [](const CycleRow& r) { return r.torque.norm(); }),
+       over_time(rows, "rendered |T|", orange,
+                 [](const CycleRow& r) { return r.rendered_torque.norm(); })});
+  plot::write_line_plot(
+      files.cost_plot, {"Cost per cycle", "time (s)", "microseconds"},
+      {over_time(rows, "whole cycle", blue, [](const CycleRow& r) { return r.cycle_us; }),
+       over_time(rows, "contact query", orange, [](const CycleRow& r) { return r.query_us; })});
+  if (!input.sweep.empty()) {
+    files.speed_plot = directory / "speed_vs_error.png";
+    plot::Series levels{"fixed levels", {}, {}, blue, true};
+    plot::Series budgets{"time budgets", {}, {}, orange, true};
+    for (std::size_t i = 1; i < input.sweep.size(); ++i) {
+      const SweepResult& r = input.sweep[i];
+      plot::Series& series = r.name.rfind("level", 0) == 0 ? levels : budgets;
+      series.x.push_back(r.query_us.mean);
+      series.y.push_back(100.0 * r.force_error);
+    }
+    plot::Series reference{
+        "reference (0 %)", {input.sweep.front().query_us.mean}, {0.0}, green, true};
+    plot::write_line_plot(files.speed_plot,
+                          {"Contact query: speed against force error", "microseconds per query",
+                           "force error RMS (%)"},
+                          {levels, budgets, reference});
+  }
+  write_markdown(files.markdown, input, summarize(rows, 1.0 / input.rate_hz), files);
+  return files;
+}
+
+}  // namespace khz::run
