@@ -15,6 +15,7 @@
 #include <khz/reduced/io/mesh_fingerprint.hpp>
 #include <khz/reduced/meshing/box_mesh.hpp>
 #include <khz/render/png_file.hpp>
+#include <khz/run/cycle_log.hpp>
 #include <khz/test/fixtures.hpp>
 
 #include <gtest/gtest.h>
@@ -222,6 +223,29 @@ TEST(KhzInfo, CsvThatIsNoTrajectoryExitsWithOne) {
   EXPECT_EQ(run.exit_code, 1) << run.output;
   EXPECT_TRUE(
       has_line_with(run, {"khz: ", "loads.csv is not a device trajectory", "loads.csv:1: "}));
+}
+
+TEST(KhzInfo, CycleLog) {
+  std::vector<run::CycleRow> rows(4);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    rows[i].time = 0.002 * static_cast<double>(i);
+    rows[i].cycle_us = 10.0 * static_cast<double>(i + 1);
+  }
+  rows[2].contacts = 7;
+  rows[2].nodes = 99;
+  rows[2].level = 3;
+  rows[2].force = Eigen::Vector3d(0.0, 3.0, 4.0);
+  rows[3].ok = false;
+  const std::filesystem::path file = scratch_file("cycles.csv");
+  run::write_cycle_csv(rows, file);
+  const KhzRun run = khz_info(file);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(has_line_with(run, {"kind:", "khz run cycle log"}));
+  EXPECT_TRUE(has_line_with(run, {"cycles:", "4 (0.008 s at 500 Hz), 1 in contact"}));
+  EXPECT_TRUE(has_line_with(run, {"us per cycle:", "mean 25, p99 40, max 40"}));
+  EXPECT_TRUE(has_line_with(run, {"contact:", "max 7 points, max 99 nodes, deepest level 3"}));
+  EXPECT_TRUE(has_line_with(run, {"forces:", "max 5 N contact"}));
+  EXPECT_TRUE(has_line_with(run, {"failed cycles:", "1"}));
 }
 
 TEST(KhzInfo, PngImage) {

@@ -112,7 +112,7 @@ const std::vector<FileKind>& file_kinds() {
       {"pointshell", {contact::pointshell_file_extension}, describe_pointshell_file},
       {"point tree", {contact::point_tree_file_extension}, describe_point_tree_file},
       {"scene", {".json"}, describe_scene_file},
-      {"device trajectory", {".csv"}, describe_trajectory_file},
+      {"khz run cycle log or device trajectory", {".csv"}, describe_csv_file},
       {"PNG image", {".png"}, describe_png_file},
       {"ParaView distance field",
        {".vti"},
