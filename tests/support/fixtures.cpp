@@ -21,14 +21,29 @@ std::filesystem::path test_file(std::string_view relative) {
   return path;
 }
 
-std::filesystem::path scratch_file(std::string_view name) {
+namespace {
+
+/// The running test's own scratch directory, created if missing.
+std::filesystem::path test_scratch_directory() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::filesystem::path dir = std::filesystem::path(scratch_dir);
   if (info != nullptr) dir /= std::string(info->test_suite_name()) + "." + info->name();
   std::filesystem::create_directories(dir);
-  std::filesystem::path path = dir / name;
+  return dir;
+}
+
+}  // namespace
+
+std::filesystem::path scratch_file(std::string_view name) {
+  std::filesystem::path path = test_scratch_directory() / name;
   std::filesystem::remove(path);
   return path;
+}
+
+std::filesystem::path scratch_directory(std::string_view name) {
+  std::filesystem::path directory = test_scratch_directory() / name;
+  std::filesystem::remove_all(directory);
+  return directory;
 }
 
 std::string read_bytes(const std::filesystem::path& file) {

@@ -75,8 +75,7 @@ struct ExampleRun {
 
 ExampleRun run_small() {
   ExampleRun run;
-  run.out = scratch_file("beam.probe").parent_path() / "beam_output";
-  std::filesystem::remove_all(run.out);
+  run.out = scratch_directory("beam_output");
   const std::filesystem::path log = scratch_file("beam_example.txt");
   const std::string command = std::string("\"") + KHZ_BEAM_EXAMPLE_PATH + "\" --small --out \"" +
                               run.out.string() + "\" > \"" + log.string() + "\" 2>&1";

@@ -14,13 +14,6 @@
 namespace khz::test {
 namespace {
 
-/// An empty directory in the running test's scratch space.
-std::filesystem::path fresh_directory(const std::string& name) {
-  const std::filesystem::path directory = scratch_file(name + ".probe").parent_path() / name;
-  std::filesystem::remove_all(directory);
-  return directory;
-}
-
 /// A 4 cm cube tool pressed 3 mm into a 10 cm cube wall and lifted, over 0.3 s.
 std::filesystem::path write_scene() {
   const std::filesystem::path trajectory = scratch_file("press.csv");
@@ -49,8 +42,8 @@ std::filesystem::path write_scene() {
 
 TEST(KhzRun, WritesTheCycleLogFramesAndParaViewSeries) {
   const std::filesystem::path scene = write_scene();
-  const std::filesystem::path out = fresh_directory("run");
-  const std::filesystem::path cache = fresh_directory("cache");
+  const std::filesystem::path out = scratch_directory("run");
+  const std::filesystem::path cache = scratch_directory("cache");
   const KhzRun run =
       khz("run \"" + scene.string() + "\" --out \"" + out.string() + "\" --cache \"" +
           cache.string() + "\" --frames 20 --width 160 --height 120 --paraview");
@@ -96,10 +89,10 @@ TEST(KhzRun, WritesTheCycleLogFramesAndParaViewSeries) {
 
 TEST(KhzReport, WritesTablesAndPlots) {
   const std::filesystem::path scene = write_scene();
-  const std::filesystem::path out = fresh_directory("report");
+  const std::filesystem::path out = scratch_directory("report");
   const KhzRun run =
       khz("report \"" + scene.string() + "\" --out \"" + out.string() + "\" --cache \"" +
-          fresh_directory("cache").string() + "\" --frames 10 --width 160 --height 120");
+          scratch_directory("cache").string() + "\" --frames 10 --width 160 --height 120");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::string report = read_bytes(out / "report.md");
   for (const char* text :
@@ -121,8 +114,8 @@ TEST(KhzRun, RefusesTwoDevicesAndAMissingBackend) {
   EXPECT_NE(both.exit_code, 0);
   EXPECT_TRUE(has_line_with(both, {"excludes"}));
   const KhzRun hardware = khz("run \"" + scene.string() + "\" --device dhd --cache \"" +
-                              fresh_directory("cache").string() + "\" --out \"" +
-                              fresh_directory("out").string() + "\"");
+                              scratch_directory("cache").string() + "\" --out \"" +
+                              scratch_directory("out").string() + "\"");
   EXPECT_EQ(hardware.exit_code, 1);
   EXPECT_TRUE(has_line_with(hardware, {"dhd", "examples/device_adapters"}));
 }

@@ -58,7 +58,7 @@ nlohmann::json cube_scene(bool second_wall = false, nlohmann::json model = {{"ty
 scene::PreparedScene prepare(const nlohmann::json& json) {
   const scene::SceneDescription description =
       scene::parse_scene(json.dump(), "test scene", read_options());
-  scene::ProductCache cache(test::scratch_file("run-cache.probe").parent_path() / "run-cache");
+  scene::ProductCache cache(test::scratch_directory("run-cache"));
   return scene::prepare_scene(description, cache);
 }
 

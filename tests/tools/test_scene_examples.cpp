@@ -120,9 +120,7 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
   options.base_directory = KHZ_SCENE_EXAMPLES_DIR;
   const SceneDescription description = parse_scene(json.dump(), file.string(), options);
 
-  const std::filesystem::path cache_directory =
-      test::scratch_file("cache.probe").parent_path() / "cache";
-  std::filesystem::remove_all(cache_directory);
+  const std::filesystem::path cache_directory = test::scratch_directory("cache");
   ProductCache cache(cache_directory);
   const PreparedScene prepared = prepare_scene(description, cache);
   EXPECT_GT(prepared.count(PrepareRecord::Origin::computed), 0);

@@ -86,15 +86,7 @@ Json reduced_scene() {
   })");
 }
 
-/// An empty directory in the running test's scratch space (scratch_file() clears files, not
-/// directories).
-std::filesystem::path fresh_directory(const std::string& name) {
-  const std::filesystem::path directory = test::scratch_file(name + ".probe").parent_path() / name;
-  std::filesystem::remove_all(directory);
-  return directory;
-}
-
-std::filesystem::path fresh_cache() { return fresh_directory("cache"); }
+std::filesystem::path fresh_cache() { return test::scratch_directory("cache"); }
 
 PreparedScene prepare(const Json& scene, const std::filesystem::path& cache_directory,
                       const PrepareOptions& options = {}) {
@@ -557,7 +549,7 @@ TEST(ScenePrepare, ProgressNamesObjectAndStepAndCanCancel) {
   }
 
   // Cancelling in the middle of the first product leaves no file, partial or complete.
-  const std::filesystem::path cancelled = fresh_directory("cancelled");
+  const std::filesystem::path cancelled = test::scratch_directory("cancelled");
   options.progress = [](const std::string&, PrepareStep, const reduced::Progress& progress) {
     return progress.stage != "distance field" || progress.done == 0;
   };

@@ -13,14 +13,6 @@
 namespace khz::test {
 namespace {
 
-/// An empty directory in the running test's scratch space (scratch_file() clears files, not
-/// directories).
-std::filesystem::path fresh_directory(const std::string& name) {
-  const std::filesystem::path directory = scratch_file(name + ".probe").parent_path() / name;
-  std::filesystem::remove_all(directory);
-  return directory;
-}
-
 /// A scene file in the test's scratch directory: a rigid field "wall" and a rigid random
 /// pointshell "tool", both made of `mesh`.
 std::filesystem::path write_scene(const std::filesystem::path& mesh) {
@@ -38,7 +30,7 @@ std::filesystem::path write_scene(const std::filesystem::path& mesh) {
 
 TEST(KhzPrep, ComputesThenReadsAndSummarizes) {
   const std::filesystem::path scene = write_scene(test_file("scenes/cube.off"));
-  const std::filesystem::path cache = fresh_directory("cache");
+  const std::filesystem::path cache = scratch_directory("cache");
   const std::string arguments =
       "prep \"" + scene.string() + "\" --cache \"" + cache.string() + "\"";
 
@@ -59,7 +51,7 @@ TEST(KhzPrep, ComputesThenReadsAndSummarizes) {
 TEST(KhzPrep, AFailureExitsNonZeroNamingTheObject) {
   const std::filesystem::path mesh = scratch_file("broken.off");
   std::ofstream(mesh) << "OFF\n3 1 0\n0 0 0\n";  // two vertices and the triangle missing
-  const std::filesystem::path cache = fresh_directory("cache");
+  const std::filesystem::path cache = scratch_directory("cache");
   const KhzRun run =
       khz("prep \"" + write_scene(mesh).string() + "\" --cache \"" + cache.string() + "\"");
   EXPECT_EQ(run.exit_code, 1) << run.output;

@@ -407,9 +407,7 @@ TEST(ProceduralShape, ScenesNameShapesAndPrepareThem) {
   EXPECT_TRUE(peg.mesh_path.empty());
   EXPECT_EQ(scene.objects[1].shape, "plate_with_hole:side=0.1,thickness=0.02,hole=0.0208");
 
-  const std::filesystem::path directory = test::scratch_file("cache.probe").parent_path() / "cache";
-  std::filesystem::remove_all(directory);
-  ProductCache cache(directory);
+  ProductCache cache(test::scratch_directory("cache"));
   const PreparedScene prepared = prepare_scene(scene, cache);
   ASSERT_TRUE(prepared.objects[1].field);
   // The plate's field: outside in the hole's middle, inside the plate's material.

@@ -1,6 +1,8 @@
 #include <khz/reduced/errors.hpp>
 #include <khz/scene/product_cache.hpp>
 
+#include <khz/test/fixtures.hpp>
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -9,14 +11,6 @@
 
 namespace khz::scene {
 namespace {
-
-/// A fresh cache directory under the build tree's scratch directory.
-std::filesystem::path fresh_directory(const std::string& name) {
-  const std::filesystem::path directory =
-      std::filesystem::current_path() / "scratch" / "product_cache" / name;
-  std::filesystem::remove_all(directory);
-  return directory;
-}
 
 std::string read_text(const std::filesystem::path& file) {
   std::ifstream in(file);
@@ -27,7 +21,7 @@ void write_text(const std::string& text, const std::filesystem::path& file) {
 }
 
 TEST(ProductCache, ComputesOnceThenReadsByKeyAndRecomputesForANewKey) {
-  ProductCache cache(fresh_directory("keys"));
+  ProductCache cache(test::scratch_directory("keys"));
   int computations = 0;
   const auto compute = [&] {
     ++computations;
@@ -55,7 +49,7 @@ TEST(ProductCache, ComputesOnceThenReadsByKeyAndRecomputesForANewKey) {
 }
 
 TEST(ProductCache, AFailedComputationOrWriteLeavesNoFile) {
-  ProductCache cache(fresh_directory("failures"));
+  ProductCache cache(test::scratch_directory("failures"));
   const auto throwing_compute = []() -> std::string { throw std::runtime_error("cancelled"); };
   EXPECT_THROW(cache.fetch<std::string>("a", "k", "txt", read_text, throwing_compute, write_text),
                std::runtime_error);
@@ -71,7 +65,7 @@ TEST(ProductCache, AFailedComputationOrWriteLeavesNoFile) {
 }
 
 TEST(ProductCache, NamesAreMadeSafeForPathsAndBadDirectoriesAreReported) {
-  ProductCache cache(fresh_directory("names"));
+  ProductCache cache(test::scratch_directory("names"));
   EXPECT_EQ(cache.file("../dragon field", "k", "khzsdf").filename(), "___dragon_field-k.khzsdf");
   EXPECT_EQ(cache.file("../dragon field", "k", "khzsdf").parent_path(), cache.directory());
   const std::filesystem::path blocked = cache.directory() / "a-file";

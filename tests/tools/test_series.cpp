@@ -541,13 +541,6 @@ TEST(VtpFile, AFailedWriteThrowsIoErrorNamingTheFileAndLeavesNoTemporaryFile) {
 
 // ---- .pvd ----
 
-/// A fresh, empty output directory under the build tree's scratch directory.
-std::filesystem::path fresh_directory(std::string_view name) {
-  const auto directory = std::filesystem::current_path() / "scratch" / "series" / name;
-  std::filesystem::remove_all(directory);
-  return directory;
-}
-
 /// The DataSet elements of a .pvd file, which must be a well-formed collection.
 std::vector<XmlElement> datasets_in(const std::filesystem::path& pvd) {
   const XmlElement root = parse_xml(test::read_bytes(pvd));
@@ -561,7 +554,7 @@ std::vector<XmlElement> datasets_in(const std::filesystem::path& pvd) {
 }
 
 TEST(PvdCollection, ListsEveryDatasetInOrderWithItsTimeAndPartAfterEachAdd) {
-  const auto directory = fresh_directory("run_output");
+  const auto directory = test::scratch_directory("run_output");
   PvdCollection collection(directory, "run");
   EXPECT_EQ(collection.file(), directory / "run.pvd");
   EXPECT_TRUE(datasets_in(collection.file()).empty());
@@ -618,7 +611,7 @@ TEST(PvdCollection, ListsEveryDatasetInOrderWithItsTimeAndPartAfterEachAdd) {
 }
 
 TEST(PvdCollection, RejectsBadTimesBeforeWritingAndStaysAsItWas) {
-  PvdCollection collection(fresh_directory("bad_times"), "run");
+  PvdCollection collection(test::scratch_directory("bad_times"), "run");
   int writes = 0;
   const auto count_write = [&](const std::filesystem::path&) { ++writes; };
   collection.add(1.0, "dino", count_write);
@@ -646,7 +639,7 @@ TEST(PvdCollection, RejectsBadTimesBeforeWritingAndStaysAsItWas) {
 }
 
 TEST(PvdCollection, RejectsNamesThatAreNotPlainFileNames) {
-  const auto directory = fresh_directory("bad_names");
+  const auto directory = test::scratch_directory("bad_names");
   for (const char* name : {"", ".hidden", "a/b", "../up", "with space", "quote\""}) {
     SCOPED_TRACE(name);
     EXPECT_TRUE(test::throws_with_message<reduced::Error>(
@@ -665,7 +658,7 @@ TEST(PvdCollection, RejectsNamesThatAreNotPlainFileNames) {
 }
 
 TEST(PvdCollection, AFailedDatasetWriteRecordsNothing) {
-  PvdCollection collection(fresh_directory("failed_dataset"), "run");
+  PvdCollection collection(test::scratch_directory("failed_dataset"), "run");
   const std::string before = test::read_bytes(collection.file());
   EXPECT_THROW(collection.add(0.0, "dino",
                               [](const std::filesystem::path& file) {
@@ -680,7 +673,7 @@ TEST(PvdCollection, AFailedDatasetWriteRecordsNothing) {
 }
 
 TEST(PvdCollection, AFailedCollectionWriteThrowsIoErrorNamingItAndUndoesTheAdd) {
-  const auto directory = fresh_directory("failed_collection");
+  const auto directory = test::scratch_directory("failed_collection");
   PvdCollection collection(directory, "run");
   const auto nothing = [](const std::filesystem::path&) {};
   collection.add(0.0, "dino", nothing);
@@ -705,7 +698,7 @@ TEST(PvdCollection, AnUnwritableDirectoryThrowsIoErrorNamingIt) {
 }
 
 TEST(PvdCollection, StartsEmptyOverAnEarlierRunsCollection) {
-  const auto directory = fresh_directory("rerun");
+  const auto directory = test::scratch_directory("rerun");
   {
     PvdCollection first(directory, "run");
     first.add(0.0, "dino", [](const std::filesystem::path&) {});

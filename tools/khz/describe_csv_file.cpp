@@ -21,16 +21,15 @@ void describe_cycle_log(const std::string& file) {
   info_line("cycles") << s.cycles << " (" << s.duration << " s at "
                       << (period > 0.0 ? 1.0 / period : 0.0) << " Hz), " << s.cycles_in_contact
                       << " in contact\n";
-  info_line("us per cycle") << "mean " << s.cycle_us.mean << ", p99 " << s.cycle_us.p99
-                            << ", max " << s.cycle_us.max << "\n";
-  info_line("us per query") << "mean " << s.query_us.mean << ", p99 " << s.query_us.p99
-                            << ", max " << s.query_us.max << "\n";
+  info_line("us per cycle") << "mean " << s.cycle_us.mean << ", p99 " << s.cycle_us.p99 << ", max "
+                            << s.cycle_us.max << "\n";
+  info_line("us per query") << "mean " << s.query_us.mean << ", p99 " << s.query_us.p99 << ", max "
+                            << s.query_us.max << "\n";
   info_line("contact") << "max " << s.max_contacts << " points, max " << s.max_nodes
                        << " nodes, deepest level " << s.deepest_level << "\n";
   info_line("forces") << "max " << s.max_force << " N contact, " << s.max_rendered_force
                       << " N rendered\n";
-  info_line("failed cycles") << s.failed_cycles << (s.finite ? "" : " (non-finite values)")
-                             << "\n";
+  info_line("failed cycles") << s.failed_cycles << (s.finite ? "" : " (non-finite values)") << "\n";
   describe_file_size(std::filesystem::file_size(file));
 }
 

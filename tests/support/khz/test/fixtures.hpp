@@ -20,6 +20,10 @@ std::filesystem::path cgal_mesh(std::string_view name);
 std::filesystem::path test_file(std::string_view relative);
 /// A fresh path in the scratch directory, unique to the running test.
 std::filesystem::path scratch_file(std::string_view name);
+/// A fresh path for a directory in the scratch directory, unique to the running test: an
+/// earlier directory there is removed with its contents (scratch_file() clears files only); the
+/// caller creates it, or lets the code under test do so.
+std::filesystem::path scratch_directory(std::string_view name);
 /// Whole content of a file (throws khz::reduced::IoError).
 std::string read_bytes(const std::filesystem::path& file);
 
