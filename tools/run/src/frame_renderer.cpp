@@ -1,39 +1,21 @@
 #include <khz/render/rasterizer.hpp>
 #include <khz/run/frame_renderer.hpp>
+#include <khz/run/scene_framing.hpp>
 
 #include <cmath>
-#include <limits>
-#include <numbers>
 #include <vector>
 
 namespace khz::run {
 namespace {
-
-constexpr double vertical_fov = 35.0 * std::numbers::pi / 180.0;
-
-/// The world bounding box of every object's surface at its current pose.
-Eigen::AlignedBox3d scene_box(const SceneRuntime& runtime) {
-  Eigen::AlignedBox3d box;
-  for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
-    const reduced::TriangleMesh& surface = runtime.surface(i);
-    for (Eigen::Index v = 0; v < surface.vertices.rows(); ++v) {
-      box.extend(runtime.pose(i) * Eigen::Vector3d(surface.vertices.row(v)));
-    }
-  }
-  return box;
-}
 
 render::Camera frame_camera(const SceneRuntime& runtime, const FrameOptions& options,
                             double& radius) {
   if (options.width < 16 || options.height < 16) {
     throw reduced::Error("FrameOptions: width and height must be at least 16 pixels");
   }
-  const Eigen::AlignedBox3d box = scene_box(runtime);
-  radius = std::max(0.5 * box.diagonal().norm(), 1e-6);
-  const double fov = std::min(vertical_fov, vertical_fov * options.width / options.height);
-  const double distance = 1.05 * radius / std::sin(0.5 * fov);
-  const Eigen::Vector3d eye = box.center() + distance * options.view_direction.normalized();
-  return render::Camera(eye, box.center(), options.up, vertical_fov, options.width, options.height);
+  const SceneFraming framing = frame_scene(runtime);
+  radius = framing.radius;
+  return framing.camera(options.view_direction, options.up, options.width, options.height);
 }
 
 }  // namespace

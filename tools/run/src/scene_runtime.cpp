@@ -98,7 +98,22 @@ Eigen::Isometry3d to_isometry(const haptic::Pose& pose) {
 
 SceneRuntime::SceneRuntime(const scene::PreparedScene& prepared,
                            const scene::DeviceDescription& device)
-    : m_prepared(prepared) {
+    : SceneRuntime(prepared) {
+  m_device = make_device(device);
+  attach(*m_device, device.safety, device.mapping);
+  const double duration = prepared.description.duration;
+  m_natural_duration = duration > 0.0 ? duration : device_duration(device, *m_device);
+}
+
+SceneRuntime::SceneRuntime(const scene::PreparedScene& prepared, haptic::Device& device,
+                           const haptic::SafetyOptions& safety,
+                           const haptic::WorkspaceMapping& mapping)
+    : SceneRuntime(prepared) {
+  attach(device, safety, mapping);
+  m_natural_duration = prepared.description.duration;
+}
+
+SceneRuntime::SceneRuntime(const scene::PreparedScene& prepared) : m_prepared(prepared) {
   const scene::SceneDescription& scene = prepared.description;
   std::vector<ContactBody> bodies;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
@@ -139,15 +154,16 @@ SceneRuntime::SceneRuntime(const scene::PreparedScene& prepared,
   }
   m_contact =
       std::make_unique<SceneContact>(std::move(bodies), held, m_grasp_in_body, scene.contact);
+}
 
-  m_device = make_device(device);
-  m_safe_device = std::make_unique<haptic::SafeDevice>(*m_device, device.safety, device.mapping);
-  const scene::ObjectDescription& held_description = scene.haptic_object();
-  haptic::Pose start = held_description.pose;
+void SceneRuntime::attach(haptic::Device& device, const haptic::SafetyOptions& safety,
+                          const haptic::WorkspaceMapping& mapping) {
+  m_safe_device = std::make_unique<haptic::SafeDevice>(device, safety, mapping);
+  const scene::SceneDescription& scene = m_prepared.description;
+  haptic::Pose start = scene.haptic_object().pose;
   start.position += start.orientation * m_grasp_in_body;
   m_coupling = std::make_unique<haptic::VirtualCoupling>(scene.coupling, start);
   m_cycle = std::make_unique<haptic::HapticCycle>(*m_safe_device, *m_coupling, *m_contact);
-  m_natural_duration = scene.duration > 0.0 ? scene.duration : device_duration(device, *m_device);
 }
 
 SceneRuntime::~SceneRuntime() = default;

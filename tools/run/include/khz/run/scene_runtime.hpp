@@ -54,6 +54,14 @@ class SceneRuntime {
   /// @throws reduced::Error (and its kinds) naming the problem: an unreadable mesh, an invalid
   ///         setting the libraries refuse, a missing hardware backend.
   SceneRuntime(const scene::PreparedScene& prepared, const scene::DeviceDescription& device);
+  /// Runs with a device the caller owns and drives (e.g. the viewer's mouse), behind a safety
+  /// layer with `safety` and `mapping`; natural_duration() is then loop.duration alone.
+  /// @param device not owned; it must outlive the runtime.
+  /// @throws reduced::Error (and its kinds) as the other constructor, and if `safety` or
+  ///         `mapping` is invalid (haptic::SafeDevice).
+  SceneRuntime(const scene::PreparedScene& prepared, haptic::Device& device,
+               const haptic::SafetyOptions& safety = {},
+               const haptic::WorkspaceMapping& mapping = {});
   ~SceneRuntime();
   SceneRuntime(const SceneRuntime&) = delete;
   SceneRuntime& operator=(const SceneRuntime&) = delete;
@@ -88,18 +96,24 @@ class SceneRuntime {
   haptic::HapticCycle& cycle() noexcept { return *m_cycle; }
   const haptic::HapticCycle& cycle() const noexcept { return *m_cycle; }
   /// The device under the safety layer (e.g. to ask a TrajectoryDevice whether it finished).
-  haptic::Device& raw_device() noexcept { return *m_device; }
+  haptic::Device& raw_device() noexcept { return m_safe_device->device(); }
   /// How long the scene runs (s): loop.duration, or for a trajectory its last sample's time,
   /// for an operator its last keyframe's; 0 when neither says (null and hardware devices).
   double natural_duration() const noexcept { return m_natural_duration; }
 
  private:
   struct Object;
+  /// Everything but the device: the objects and the contact.
+  explicit SceneRuntime(const scene::PreparedScene& prepared);
+  /// Puts `device` behind the safety layer and builds the coupling and the cycle.
+  void attach(haptic::Device& device, const haptic::SafetyOptions& safety,
+              const haptic::WorkspaceMapping& mapping);
+
   const scene::PreparedScene& m_prepared;
   std::vector<std::unique_ptr<Object>> m_objects;
   Eigen::Vector3d m_grasp_in_body = Eigen::Vector3d::Zero();
   std::unique_ptr<SceneContact> m_contact;
-  std::unique_ptr<haptic::Device> m_device;
+  std::unique_ptr<haptic::Device> m_device;  // null for a caller's device
   std::unique_ptr<haptic::SafeDevice> m_safe_device;
   std::unique_ptr<haptic::VirtualCoupling> m_coupling;
   std::unique_ptr<haptic::HapticCycle> m_cycle;

@@ -1,0 +1,40 @@
+#include "scene_snapshot.hpp"
+
+#include <algorithm>
+#include <string>
+
+namespace khz::viewer {
+
+SnapshotLayout::SnapshotLayout(const run::SceneRuntime& runtime) : m_offsets{0} {
+  for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
+    const reduced::ReducedNewmark* integrator = runtime.integrator(i);
+    const auto r = integrator != nullptr ? static_cast<int>(integrator->coordinates().size()) : 0;
+    m_offsets.push_back(m_offsets.back() + r);
+  }
+  if (m_offsets.back() > SceneSnapshot::max_coordinates) {
+    throw reduced::Error("the viewer draws at most " +
+                         std::to_string(SceneSnapshot::max_coordinates) +
+                         " reduced coordinates in all; this scene's reduced objects have " +
+                         std::to_string(m_offsets.back()));
+  }
+}
+
+void SnapshotLayout::capture(const haptic::CycleRecord& record, const run::SceneRuntime& runtime,
+                             SceneSnapshot& snapshot) const noexcept {
+  snapshot.record = record;
+  snapshot.held_pose = runtime.pose(runtime.held_object());
+  for (std::size_t i = 0; i + 1 < m_offsets.size(); ++i) {
+    const reduced::ReducedNewmark* integrator = runtime.integrator(static_cast<int>(i));
+    if (integrator == nullptr) continue;
+    const Eigen::VectorXd& q = integrator->coordinates();
+    std::copy(q.data(), q.data() + q.size(), snapshot.coordinates.begin() + m_offsets[i]);
+  }
+}
+
+Eigen::Map<const Eigen::VectorXd> SnapshotLayout::coordinates(const SceneSnapshot& snapshot,
+                                                              int object) const noexcept {
+  const auto i = static_cast<std::size_t>(object);
+  return {snapshot.coordinates.data() + m_offsets[i], m_offsets[i + 1] - m_offsets[i]};
+}
+
+}  // namespace khz::viewer

@@ -1,0 +1,171 @@
+#include "scene_view.hpp"
+
+#include <khz/reduced/subspace/vertex_normals.hpp>
+
+#include <GL/gl.h>
+
+#include <cmath>
+
+namespace khz::viewer {
+namespace {
+
+/// Surfaces finer than this are shaded smoothly (vertex normals); coarser ones, boxes say, keep
+/// their edges (a normal per triangle): FrameRenderer's rule.
+constexpr Eigen::Index smooth_triangles = 200;
+
+void set_color(const render::Color& color) { glColor3ub(color.r, color.g, color.b); }
+
+/// OpenGL's projection of `camera` (column-major, eye coordinates → clip coordinates): the same
+/// vertical angle and aspect ratio, so a world point lands on the pixel camera.project() gives.
+Eigen::Matrix4d projection(const render::Camera& camera, double near, double far) {
+  const double f = 1.0 / std::tan(0.5 * camera.vertical_fov());
+  const double aspect = static_cast<double>(camera.width()) / camera.height();
+  Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+  m(0, 0) = f / aspect;
+  m(1, 1) = f;
+  m(2, 2) = (far + near) / (near - far);
+  m(2, 3) = 2.0 * far * near / (near - far);
+  m(3, 2) = -1.0;
+  return m;
+}
+
+/// World → OpenGL eye coordinates (x right, y up, looking down −z) of `camera`.
+Eigen::Matrix4d view(const render::Camera& camera) {
+  Eigen::Matrix3d rotation;
+  rotation.row(0) = camera.right();
+  rotation.row(1) = camera.up();
+  rotation.row(2) = -camera.forward();
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.topLeftCorner<3, 3>() = rotation;
+  m.topRightCorner<3, 1>() = -rotation * camera.eye();
+  return m;
+}
+
+void line(const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
+  glVertex3dv(from.data());
+  glVertex3dv(to.data());
+}
+
+}  // namespace
+
+/// One object as drawn: its surface (body frame), how it deforms, its pose if it stays put.
+struct SceneView::Body {
+  reduced::TriangleMatrix triangles;
+  std::unique_ptr<reduced::EmbeddedSurface> embedded;  // reduced objects only
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  render::Color color;
+  bool smooth = false;
+  reduced::VertexMatrix positions;  // this frame's, body frame
+  reduced::VertexMatrix normals;    // smooth bodies: this frame's vertex normals
+};
+
+SceneView::SceneView(const run::SceneRuntime& runtime, const SnapshotLayout& layout,
+                     const run::SceneFraming& framing)
+    : m_layout(layout),
+      m_held(runtime.held_object()),
+      m_grasp_in_body(runtime.grasp_in_body()),
+      m_radius(framing.radius) {
+  for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
+    const reduced::TriangleMesh& surface = runtime.surface(i);
+    auto body = std::make_unique<Body>();
+    body->triangles = surface.triangles;
+    const scene::PreparedObject& products = runtime.prepared().objects[static_cast<std::size_t>(i)];
+    if (runtime.integrator(i) != nullptr) {
+      body->embedded = std::make_unique<reduced::EmbeddedSurface>(*products.embedding, surface,
+                                                                  products.model->basis().vectors);
+    }
+    body->pose = runtime.pose(i);
+    body->color = i == m_held ? m_colors.held_color : m_colors.other_color;
+    body->smooth = surface.triangles.rows() > smooth_triangles;
+    body->positions = surface.vertices;
+    body->normals.resize(surface.vertices.rows(), 3);
+    if (body->smooth) reduced::vertex_normals(body->positions, body->triangles, body->normals);
+    m_bodies.push_back(std::move(body));
+  }
+  const double saturation = runtime.description().coupling.saturation_force;
+  if (std::isfinite(saturation) && saturation > 0.0) m_reference_force = saturation;
+}
+
+SceneView::~SceneView() = default;
+
+void SceneView::draw(const SceneSnapshot& snapshot, const render::Camera& camera, int width,
+                     int height) {
+  glViewport(0, 0, width, height);
+  glClearColor(1.0f, 1.0f, 1.0f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+
+  const double distance = (camera.target() - camera.eye()).norm();
+  glMatrixMode(GL_PROJECTION);
+  glLoadMatrixd(projection(camera, 0.1 * distance, distance + 4.0 * m_radius).data());
+  glMatrixMode(GL_MODELVIEW);
+  glLoadIdentity();
+  // A headlight: a directional light from the eye, set in eye coordinates.
+  const GLfloat towards_eye[] = {0.0f, 0.0f, 1.0f, 0.0f};
+  const GLfloat ambient[] = {0.25f, 0.25f, 0.25f, 1.0f};
+  glLightfv(GL_LIGHT0, GL_POSITION, towards_eye);
+  glLightModelfv(GL_LIGHT_MODEL_AMBIENT, ambient);
+  glLightModeli(GL_LIGHT_MODEL_TWO_SIDE, GL_TRUE);
+  glEnable(GL_LIGHT0);
+  glEnable(GL_COLOR_MATERIAL);
+  glColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
+  glLoadMatrixd(view(camera).data());
+
+  const haptic::CycleRecord& record = snapshot.record;
+  glEnable(GL_LIGHTING);
+  for (std::size_t i = 0; i < m_bodies.size(); ++i) {
+    const int object = static_cast<int>(i);
+    draw_body(*m_bodies[i], object == m_held ? snapshot.held_pose : m_bodies[i]->pose,
+              m_layout.coordinates(snapshot, object));
+  }
+  glDisable(GL_LIGHTING);
+
+  // Drawn over the surfaces: the coupling's spring and the contact force.
+  glDisable(GL_DEPTH_TEST);
+  const Eigen::Vector3d grasp = snapshot.held_pose * m_grasp_in_body;
+  const Eigen::Vector3d& hand = record.manipulandum.position;
+  glLineWidth(1.5f);
+  set_color(m_colors.traversed_color);
+  glBegin(GL_LINES);
+  line(grasp, hand);
+  glEnd();
+  glPointSize(8.0f);
+  glBegin(GL_POINTS);
+  glVertex3dv(hand.data());
+  glEnd();
+  glLineWidth(3.0f);
+  set_color(m_colors.force_color);
+  glBegin(GL_LINES);
+  line(grasp, grasp + record.contact.force * (m_radius / m_reference_force));
+  glEnd();
+}
+
+void SceneView::draw_body(Body& body, const Eigen::Isometry3d& pose,
+                          const Eigen::Map<const Eigen::VectorXd>& q) const {
+  if (body.embedded != nullptr) {
+    body.embedded->deformed_positions(q, body.positions);
+    if (body.smooth) reduced::vertex_normals(body.positions, body.triangles, body.normals);
+  }
+  glPushMatrix();
+  glMultMatrixd(pose.matrix().data());
+  set_color(body.color);
+  glBegin(GL_TRIANGLES);
+  for (Eigen::Index t = 0; t < body.triangles.rows(); ++t) {
+    const auto corners = body.triangles.row(t);
+    if (!body.smooth) {
+      const Eigen::Vector3d a = body.positions.row(corners[0]);
+      const Eigen::Vector3d normal = (Eigen::Vector3d(body.positions.row(corners[1])) - a)
+                                         .cross(Eigen::Vector3d(body.positions.row(corners[2])) - a)
+                                         .normalized();
+      glNormal3dv(normal.data());
+    }
+    for (const int v : {corners[0], corners[1], corners[2]}) {
+      if (body.smooth) glNormal3dv(body.normals.row(v).data());
+      glVertex3dv(body.positions.row(v).data());
+    }
+  }
+  glEnd();
+  glPopMatrix();
+}
+
+}  // namespace khz::viewer

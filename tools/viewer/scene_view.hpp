@@ -1,0 +1,51 @@
+#pragma once
+// Drawing a running scene with OpenGL (fixed function) from the haptic thread's snapshots.
+
+#include "scene_snapshot.hpp"
+
+#include <khz/reduced/subspace/embedded_surface.hpp>
+#include <khz/render/camera.hpp>
+#include <khz/run/frame_renderer.hpp>
+#include <khz/run/scene_framing.hpp>
+#include <khz/run/scene_runtime.hpp>
+
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <vector>
+
+namespace khz::viewer {
+
+/// Draws every object's surface, deformed to its q and placed at its pose, the manipulandum
+/// (the mouse's point, joined to the grasp point by the coupling's spring) and the contact force
+/// on the held object as a line from its grasp point. Everything it needs of the runtime is
+/// copied at construction, so drawing never touches the runtime the haptic thread runs: object
+/// poses other than the held one's are those at construction, reduced surfaces are deformed with
+/// their own reduced::EmbeddedSurface.
+class SceneView {
+ public:
+  /// Before the haptic loop starts. `layout` must outlive the view.
+  /// @throws reduced::Error as reduced::EmbeddedSurface's constructor.
+  SceneView(const run::SceneRuntime& runtime, const SnapshotLayout& layout,
+            const run::SceneFraming& framing);
+  ~SceneView();
+
+  /// Draws `snapshot` as `camera` sees it into the current OpenGL context's framebuffer
+  /// (`width` × `height` pixels, the camera's aspect ratio). Allocates nothing.
+  void draw(const SceneSnapshot& snapshot, const render::Camera& camera, int width, int height);
+
+ private:
+  struct Body;
+  void draw_body(Body& body, const Eigen::Isometry3d& pose,
+                 const Eigen::Map<const Eigen::VectorXd>& q) const;
+
+  const SnapshotLayout& m_layout;
+  run::FrameOptions m_colors;  // FrameRenderer's colours
+  std::vector<std::unique_ptr<Body>> m_bodies;
+  int m_held = 0;
+  Eigen::Vector3d m_grasp_in_body;
+  double m_radius = 1.0;           // the scene's (m)
+  double m_reference_force = 1.0;  // N drawn as long as the scene's radius
+};
+
+}  // namespace khz::viewer

@@ -1,0 +1,64 @@
+#pragma once
+// The viewer's window (GLFW, an OpenGL 2.1 context): the camera framing the scene at the
+// window's size, and the mouse and keys turned into the manipulandum's target.
+
+#include <khz/render/camera.hpp>
+#include <khz/render/image.hpp>
+#include <khz/run/scene_framing.hpp>
+#include <khz/viewer/cursor_drag.hpp>
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <optional>
+#include <string>
+
+struct GLFWwindow;
+
+namespace khz::viewer {
+
+/// A window showing the scene through run::FrameRenderer's framing (its default view direction
+/// and up, refitted whenever the window's size changes). The left button drags the
+/// manipulandum's target in the plane facing the camera, the scroll wheel moves it along the
+/// viewing axis (CursorDrag); every change is passed to `on_target`. Esc or closing the window
+/// asks to quit. Belongs to the thread that made it (GLFW's main-thread rule).
+class ViewerWindow {
+ public:
+  /// Opens the window with its OpenGL context current.
+  /// @param width, height the window's size (screen coordinates), ≥ 16.
+  /// @param framing where the scene is (run::frame_scene()).
+  /// @param drag the target the mouse moves; must outlive the window.
+  /// @param on_target called (on this thread) with the target (m, world) after every change.
+  /// @throws reduced::Error if GLFW cannot start (no display) or make the window.
+  ViewerWindow(const std::string& title, int width, int height, const run::SceneFraming& framing,
+               CursorDrag& drag, std::function<void(const Eigen::Vector3d&)> on_target);
+  ~ViewerWindow();
+  ViewerWindow(const ViewerWindow&) = delete;
+  ViewerWindow& operator=(const ViewerWindow&) = delete;
+
+  /// True once Esc was pressed or the window closed.
+  bool closing() const noexcept;
+  /// The camera of the window's current size (cursor positions are in its pixels).
+  const render::Camera& camera() const noexcept { return *m_camera; }
+  /// The framebuffer's size (pixels; differs from the window's on high-density screens).
+  Eigen::Vector2i framebuffer_size() const noexcept;
+  void set_title(const std::string& title) noexcept;
+  /// The frame drawn but not yet shown (the back buffer) as an image.
+  render::Image read_frame() const;
+  /// Shows the frame drawn and handles the events that came in meanwhile.
+  void show_frame() noexcept;
+
+ private:
+  static ViewerWindow& of(GLFWwindow* window) noexcept;
+  void fit_camera(int width, int height);
+  Eigen::Vector2d cursor() const noexcept;
+  void target_moved() const { m_on_target(m_drag.target()); }
+
+  GLFWwindow* m_window = nullptr;
+  run::SceneFraming m_framing;
+  CursorDrag& m_drag;
+  std::function<void(const Eigen::Vector3d&)> m_on_target;
+  std::optional<render::Camera> m_camera;
+};
+
+}  // namespace khz::viewer
