@@ -10,6 +10,7 @@
 #include <khz/run/cycle_log.hpp>
 #include <khz/run/frame_renderer.hpp>
 #include <khz/run/point_states.hpp>
+#include <khz/run/run_realtime.hpp>
 #include <khz/run/run_scene.hpp>
 #include <khz/run/run_summary.hpp>
 #include <khz/scene/prepare_scene.hpp>
@@ -307,6 +308,24 @@ TEST(FrameRenderer, ShowsObjectsContactPointsAndForce) {
   const render::Image lifted = renderer.render(capture_frame(runtime), &apart);
   EXPECT_EQ(apart.in_contact, 0);
   EXPECT_EQ(count(lifted, options.contact_color), 0);
+}
+
+// The real-time loop runs the same cycle: every cycle is logged at its scheduled time, a
+// period or more apart, the press gives contact, and the device is closed afterwards.
+TEST(RunSceneRealtime, RunsEveryCycleOnTheLoopAndClosesTheDevice) {
+  const scene::PreparedScene prepared = prepare(cube_scene());
+  SceneRuntime runtime(prepared, prepared.description.device);
+  const RealtimeRun run = run_scene_realtime(runtime, 0.2);
+  ASSERT_EQ(run.rows.size(), 200u);
+  for (std::size_t i = 1; i < run.rows.size(); ++i) {
+    EXPECT_GE(run.rows[i].time - run.rows[i - 1].time, 1e-3 - 1e-12) << "cycle " << i;
+  }
+  EXPECT_GE(run.loop.cycles, 200);
+  const RunSummary summary = summarize(run.rows, 1e-3);
+  EXPECT_TRUE(summary.finite);
+  EXPECT_EQ(summary.failed_cycles, 0);
+  EXPECT_EQ(summary.cycles_in_contact, 200);  // held 1 mm deep by the null device
+  EXPECT_FALSE(runtime.device().is_open());
 }
 
 TEST(RunScene, NullDeviceWithoutDurationIsRefusedWithAHint) {

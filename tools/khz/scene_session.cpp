@@ -5,6 +5,7 @@
 #include <khz/render/png_file.hpp>
 #include <khz/run/frame_renderer.hpp>
 #include <khz/run/frame_series.hpp>
+#include <khz/run/run_realtime.hpp>
 #include <khz/run/run_scene.hpp>
 #include <khz/run/run_summary.hpp>
 #include <khz/scene/read_scene.hpp>
@@ -68,6 +69,10 @@ void add_run_options(CLI::App& command, RunRequest& request) {
   command.add_option("--height", request.height, "Frame height (pixels)")
       ->capture_default_str()
       ->check(CLI::Range(16, 8192));
+  command.add_flag("--realtime", request.realtime,
+                   "Run on the real-time haptic loop (loop.rate_hz, realtime_priority, cpu) "
+                   "instead of in simulated time; reports deadline misses; no frames. A hardware "
+                   "--device always runs so");
   command.add_flag("--paraview", request.paraview,
                    "Also write each frame as a ParaView time series (<out>/paraview/run.pvd: "
                    "surfaces, pointshell points with their state, the force)");
@@ -91,6 +96,10 @@ SceneSession::~SceneSession() = default;
 
 RunResult SceneSession::run(bool record_states) {
   const scene::SceneDescription& description = m_prepared.description;
+  if (m_request.realtime || !m_request.device.empty()) {
+    if (record_states) throw reduced::Error("a real-time run keeps no states to report on");
+    return run_realtime();
+  }
   const std::filesystem::path frames = m_out / "frames";
   std::filesystem::create_directories(m_out);
   std::filesystem::remove_all(frames);
@@ -145,6 +154,32 @@ RunResult SceneSession::run(bool record_states) {
   }
   if (!result.paraview.empty()) std::cout << "\nwrote " << result.paraview.string();
   std::cout << "\n";
+  if (!summary.finite) throw reduced::Error("the run produced non-finite forces or poses");
+  return result;
+}
+
+RunResult SceneSession::run_realtime() {
+  std::filesystem::create_directories(m_out);
+  const InterruptRequest interrupt;
+  std::cout << "running " << m_request.scene << " in real time at "
+            << m_prepared.description.loop.rate_hz << " Hz\n";
+  run::RealtimeRun realtime = run::run_scene_realtime(*m_runtime, m_request.duration,
+                                                      [&] { return interrupt.requested(); });
+  for (const std::string& warning : realtime.warnings) std::cout << "loop: " << warning << "\n";
+  RunResult result;
+  result.rows = std::move(realtime.rows);
+  result.interrupted = interrupt.requested();
+  result.csv = m_out / "cycles.csv";
+  run::write_cycle_csv(result.rows, result.csv);
+  const run::RunSummary summary =
+      run::summarize(result.rows, 1.0 / m_prepared.description.loop.rate_hz);
+  run::print_summary(std::cout, summary);
+  const haptic::LoopStatistics& loop = realtime.loop;
+  std::cout << "loop: " << loop.cycles << " cycles, " << loop.deadline_misses
+            << " deadline misses, " << loop.skipped_cycles << " periods skipped; work mean "
+            << loop.mean_work << " us, p99 " << loop.p99_work << " us, max " << loop.max_work
+            << " us; latest wake-up " << loop.max_start_lateness << " us late\n"
+            << "wrote " << result.csv.string() << "\n";
   if (!summary.finite) throw reduced::Error("the run produced non-finite forces or poses");
   return result;
 }

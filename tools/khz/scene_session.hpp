@@ -22,10 +22,11 @@ struct RunRequest {
   double frame_rate = 10.0;  ///< PNG frames per simulated second; 0: none.
   int width = 800, height = 600;
   bool paraview = false;  ///< Also write the frames as a ParaView time series.
+  bool realtime = false;  ///< Run on the real-time loop (implied by a hardware device).
 };
 
 /// Registers the options of RunRequest on `command` (scene, --trajectory | --operator |
-/// --device, --out, --cache, --duration, --frames, --width, --height, --paraview).
+/// --device, --out, --cache, --duration, --frames, --width, --height, --paraview, --realtime).
 void add_run_options(CLI::App& command, RunRequest& request);
 
 /// What a run wrote and kept.
@@ -49,12 +50,15 @@ class SceneSession {
   const std::filesystem::path& out() const noexcept { return m_out; }
   run::SceneRuntime& runtime() noexcept { return *m_runtime; }
 
-  /// Runs the scene (run::run_scene()), writes cycles.csv and the frames, prints the summary.
-  /// With `record_states`, keeps every cycle's state for run::sweep_contact().
+  /// Runs the scene (run::run_scene(); run::run_scene_realtime() with --realtime or a hardware
+  /// device, without frames), writes cycles.csv and the frames, prints the summary. With
+  /// `record_states`, keeps every cycle's state for run::sweep_contact() (simulated time only).
   /// @throws reduced::Error if the run produced non-finite values (after writing the CSV).
   RunResult run(bool record_states);
 
  private:
+  RunResult run_realtime();
+
   RunRequest m_request;
   std::filesystem::path m_out;
   scene::PreparedScene m_prepared;

@@ -62,7 +62,7 @@ void print_summary(std::ostream& out, const RunSummary& s) {
                   v.mean, v.p50, v.p99, v.max);
     out << line;
   };
-  std::snprintf(line, sizeof line, "cycles: %lld (%.3f s simulated), %lld in contact\n",
+  std::snprintf(line, sizeof line, "cycles: %lld over %.3f s, %lld in contact\n",
                 static_cast<long long>(s.cycles), s.duration,
                 static_cast<long long>(s.cycles_in_contact));
   out << line;

@@ -1,0 +1,55 @@
+#include <khz/haptic/loop/haptic_loop.hpp>
+#include <khz/run/run_realtime.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+namespace khz::run {
+
+RealtimeRun run_scene_realtime(SceneRuntime& runtime, double duration,
+                               const std::function<bool()>& stop_requested) {
+  const double seconds = duration > 0.0 ? duration : runtime.natural_duration();
+  if (!(seconds > 0.0) || !std::isfinite(seconds)) {
+    throw reduced::Error(
+        "the run has no duration: this device plays no recording, so give one (loop.duration "
+        "in the scene, or khz run --duration)");
+  }
+  const haptic::LoopOptions& options = runtime.description().loop;
+  const auto cycles = static_cast<std::size_t>(std::ceil(seconds * options.rate_hz - 1e-9));
+  RealtimeRun run;
+  run.rows.reserve(cycles);
+  std::atomic<bool> done{false};
+
+  haptic::HapticLoop loop(options);
+  haptic::SafeDevice& device = runtime.device();
+  device.open();
+  haptic::HapticCycle& cycle = runtime.cycle();
+  using Clock = std::chrono::steady_clock;
+  loop.start([&](const haptic::CycleClock& clock) {
+    if (run.rows.size() == cycles) {
+      done.store(true, std::memory_order_release);
+      return;
+    }
+    const Clock::time_point start = Clock::now();
+    const auto elapsed = [&] {
+      return std::chrono::duration<double>(Clock::now() - start).count();
+    };
+    const haptic::CycleRecord& record =
+        cycle.run(clock.time, clock.time + clock.period, [&] { return clock.time + elapsed(); });
+    run.rows.push_back(CycleRow::from(record, 1e6 * elapsed()));
+  });
+  while (!done.load(std::memory_order_acquire) && !(stop_requested && stop_requested()) &&
+         loop.running()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  loop.stop();
+  device.close();
+  run.loop = loop.statistics();
+  run.warnings = loop.warnings();
+  if (!loop.error().empty()) throw reduced::Error("the haptic loop stopped: " + loop.error());
+  return run;
+}
+
+}  // namespace khz::run
