@@ -257,6 +257,14 @@ TEST(KhzInfo, PngImage) {
   EXPECT_TRUE(has_line_with(run, {"height:", "9 pixels"}));
 }
 
+TEST(KhzInfo, ParaViewSeriesIsNamed) {
+  const std::filesystem::path file = scratch_file("run.pvd");
+  std::ofstream(file) << "<VTKFile type=\"Collection\"/>\n";
+  const KhzRun run = khz_info(file);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(has_line_with(run, {"kind:", "khz run frame series for ParaView"}));
+}
+
 TEST(KhzInfo, ParaViewFieldIsNamedAndSized) {
   const std::filesystem::path file = scratch_file("field.vti");
   contact::write_distance_field_vti(file, small_grid());

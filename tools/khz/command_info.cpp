@@ -126,6 +126,18 @@ const std::vector<FileKind>& file_kinds() {
        [](const std::string& file) {
          describe_unread_file(file, "VTK mesh for ParaView (khz convert, write_*_mesh)");
        }},
+      {"ParaView time series",
+       {".pvd", ".vtp"},
+       [](const std::string& file) {
+         describe_unread_file(file,
+                              "a khz run frame series for ParaView (.pvd collection of .vtp "
+                              "surfaces and points, khz run --paraview)");
+       }},
+      {"khz report",
+       {".md"},
+       [](const std::string& file) {
+         describe_unread_file(file, "Markdown (khz report writes report.md beside its plots)");
+       }},
       {"NumPy or MATLAB basis export",
        {".npy", ".mat"},
        [](const std::string& file) {
