@@ -3,6 +3,7 @@
 
 #include <khz/scene/content_key.hpp>
 #include <khz/scene/read_scene.hpp>
+#include <khz/scene/scene_names.hpp>
 
 #include <array>
 #include <iostream>
@@ -10,48 +11,6 @@
 
 namespace khz::tool {
 namespace {
-
-// The scene file's names of the choices the summary shows (docs/SCENES.md).
-
-std::string_view basis_method_name(scene::BasisMethod method) noexcept {
-  switch (method) {
-    case scene::BasisMethod::modes:
-      return "modes";
-    case scene::BasisMethod::sketch:
-      return "sketch";
-    case scene::BasisMethod::simulation_data:
-      return "simulation_data";
-  }
-  return "?";
-}
-
-std::string_view pointshell_method_name(scene::PointshellMethod method) noexcept {
-  switch (method) {
-    case scene::PointshellMethod::repulsion:
-      return "repulsion";
-    case scene::PointshellMethod::vertices:
-      return "vertices";
-    case scene::PointshellMethod::random:
-      return "random";
-    case scene::PointshellMethod::voxels:
-      return "voxels";
-  }
-  return "?";
-}
-
-std::string_view device_type_name(scene::DeviceType type) noexcept {
-  switch (type) {
-    case scene::DeviceType::null:
-      return "null";
-    case scene::DeviceType::trajectory:
-      return "trajectory";
-    case scene::DeviceType::simulated_operator:
-      return "operator";
-    case scene::DeviceType::hardware:
-      return "hardware";
-  }
-  return "?";
-}
 
 /// Every product an object can need, in the order they are prepared.
 constexpr std::array<scene::Product, 4> products{
@@ -64,7 +23,7 @@ void describe_model(const scene::ModelDescription& model) {
     out << "rigid\n";
     return;
   }
-  out << "reduced, " << basis_method_name(model.basis.method)
+  out << "reduced, " << scene::basis_method_name(model.basis.method)
       << " basis, r = " << model.basis.basis_size;
   if (model.basis.method == scene::BasisMethod::modes) out << ", k = " << model.basis.num_modes;
   out << "\n";
@@ -72,7 +31,7 @@ void describe_model(const scene::ModelDescription& model) {
 
 void describe_pointshell(const scene::PointshellDescription& pointshell) {
   std::ostream& out = info_line("pointshell", 4)
-                      << pointshell_method_name(pointshell.method) << ", ";
+                      << scene::pointshell_method_name(pointshell.method) << ", ";
   if (pointshell.method == scene::PointshellMethod::repulsion) {
     out << pointshell.levels << " levels (" << pointshell.first_level_points
         << " points on level 0)\n";
@@ -105,7 +64,7 @@ void describe_object(const scene::ObjectDescription& object) {
 }
 
 void describe_device(const scene::DeviceDescription& device) {
-  std::ostream& out = info_line("device") << device_type_name(device.type);
+  std::ostream& out = info_line("device") << scene::device_type_name(device.type);
   switch (device.type) {
     case scene::DeviceType::null:
       out << " (a fixed pose)";
