@@ -26,7 +26,9 @@ struct RunOptions {
 /// t = i / rate_hz. Each cycle's cost is measured on the steady clock, but the device's
 /// watchdog sees the simulated clock (a cycle takes no simulated time), so the run is
 /// reproducible: the same scene and inputs give the same rows on any machine, whatever its
-/// speed; only the µs columns differ. The device is closed at the end (also on throw).
+/// speed; only the µs columns differ. The exception is degradation by time budget
+/// (contact.degradation.mode time_budget), whose level of detail follows the measured cost.
+/// The device is closed at the end (also on throw).
 /// @returns one row per cycle.
 /// @throws reduced::Error if the duration is 0 and the device gives none (null and hardware
 ///         devices: set loop.duration), or as the device's open().
