@@ -160,14 +160,8 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
   EXPECT_GT(contact_frame->in_contact, 0);
   EXPECT_GT(contact_frame->traversed, 0);
 
-  int levels = 0;
-  for (const PreparedObject& object : prepared.objects) {
-    if (object.tree) levels = std::max(levels, object.tree->num_levels());
-    if (object.deformable_tree)
-      levels = std::max(levels, object.deformable_tree->tree().num_levels());
-  }
-  const std::vector<run::SweepResult> sweep =
-      run::sweep_contact(runtime, states, run::default_sweep(description.contact, levels), 300);
+  const std::vector<run::SweepResult> sweep = run::sweep_contact(
+      runtime, states, run::default_sweep(description.contact, run::tree_levels(prepared)), 300);
   ASSERT_GE(sweep.size(), 3u);
   EXPECT_EQ(sweep[0].force_error, 0.0);  // the reference against itself
   EXPECT_GT(sweep[1].force_error, 0.0);  // level 0 is coarse

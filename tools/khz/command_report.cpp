@@ -10,18 +10,6 @@
 namespace khz::tool {
 namespace {
 
-/// The largest level count of the scene's pointshell trees.
-int tree_levels(const scene::PreparedScene& prepared) {
-  int levels = 1;
-  for (const scene::PreparedObject& object : prepared.objects) {
-    if (object.tree) levels = std::max(levels, object.tree->num_levels());
-    if (object.deformable_tree) {
-      levels = std::max(levels, object.deformable_tree->tree().num_levels());
-    }
-  }
-  return levels;
-}
-
 /// At most `count` of the frames, evenly spaced, relative to `directory`.
 std::vector<std::filesystem::path> some_frames(const std::vector<std::filesystem::path>& frames,
                                                const std::filesystem::path& directory,
@@ -41,7 +29,7 @@ void report(const RunRequest& request) {
   std::cout << "replaying " << result.states.size() << " states for speed against error\n";
   const std::vector<run::SweepResult> sweep = run::sweep_contact(
       runtime, result.states,
-      run::default_sweep(runtime.description().contact, tree_levels(runtime.prepared())));
+      run::default_sweep(runtime.description().contact, run::tree_levels(runtime.prepared())));
   run::ReportInput input;
   input.scene = request.scene;
   input.description = runtime.description().description;

@@ -30,6 +30,11 @@ scene::PreparedScene prepare(const RunRequest& request) {
                                cache_directory(request.cache, request.scene), std::cout);
 }
 
+/// A run that produced non-finite values fails the command (after its log is written).
+void require_finite(const run::RunSummary& summary) {
+  if (!summary.finite) throw reduced::Error("the run produced non-finite forces or poses");
+}
+
 }  // namespace
 
 void add_run_options(CLI::App& command, RunRequest& request) {
@@ -142,11 +147,7 @@ RunResult SceneSession::run(bool record_states) {
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.interrupted = interrupt.requested();
-  result.csv = m_out / "cycles.csv";
-  run::write_cycle_csv(result.rows, result.csv);
-
-  const run::RunSummary summary = run::summarize(result.rows, 1.0 / description.loop.rate_hz);
-  run::print_summary(std::cout, summary);
+  const run::RunSummary summary = log_rows(result);
   std::cout << "wall time: " << wall << " s" << (result.interrupted ? " (interrupted)" : "")
             << "\nwrote " << result.csv.string();
   if (!result.frames.empty()) {
@@ -154,7 +155,7 @@ RunResult SceneSession::run(bool record_states) {
   }
   if (!result.paraview.empty()) std::cout << "\nwrote " << result.paraview.string();
   std::cout << "\n";
-  if (!summary.finite) throw reduced::Error("the run produced non-finite forces or poses");
+  require_finite(summary);
   return result;
 }
 
@@ -169,19 +170,24 @@ RunResult SceneSession::run_realtime() {
   RunResult result;
   result.rows = std::move(realtime.rows);
   result.interrupted = interrupt.requested();
-  result.csv = m_out / "cycles.csv";
-  run::write_cycle_csv(result.rows, result.csv);
-  const run::RunSummary summary =
-      run::summarize(result.rows, 1.0 / m_prepared.description.loop.rate_hz);
-  run::print_summary(std::cout, summary);
+  const run::RunSummary summary = log_rows(result);
   const haptic::LoopStatistics& loop = realtime.loop;
   std::cout << "loop: " << loop.cycles << " cycles, " << loop.deadline_misses
             << " deadline misses, " << loop.skipped_cycles << " periods skipped; work mean "
             << loop.mean_work << " us, p99 " << loop.p99_work << " us, max " << loop.max_work
             << " us; latest wake-up " << loop.max_start_lateness << " us late\n"
             << "wrote " << result.csv.string() << "\n";
-  if (!summary.finite) throw reduced::Error("the run produced non-finite forces or poses");
+  require_finite(summary);
   return result;
+}
+
+run::RunSummary SceneSession::log_rows(RunResult& result) const {
+  result.csv = m_out / "cycles.csv";
+  run::write_cycle_csv(result.rows, result.csv);
+  const run::RunSummary summary =
+      run::summarize(result.rows, 1.0 / m_prepared.description.loop.rate_hz);
+  run::print_summary(std::cout, summary);
+  return summary;
 }
 
 }  // namespace khz::tool

@@ -4,6 +4,7 @@
 
 #include <khz/run/contact_sweep.hpp>
 #include <khz/run/cycle_log.hpp>
+#include <khz/run/run_summary.hpp>
 #include <khz/run/scene_runtime.hpp>
 
 #include <CLI/CLI.hpp>
@@ -58,6 +59,8 @@ class SceneSession {
 
  private:
   RunResult run_realtime();
+  /// Writes result.rows to <out>/cycles.csv (setting result.csv) and prints their summary.
+  run::RunSummary log_rows(RunResult& result) const;
 
   RunRequest m_request;
   std::filesystem::path m_out;

@@ -9,10 +9,6 @@
 namespace khz::viewer {
 namespace {
 
-/// Surfaces finer than this are shaded smoothly (vertex normals); coarser ones, boxes say, keep
-/// their edges (a normal per triangle): FrameRenderer's rule.
-constexpr Eigen::Index smooth_triangles = 200;
-
 void set_color(const render::Color& color) { glColor3ub(color.r, color.g, color.b); }
 
 /// OpenGL's projection of `camera` (column-major, eye coordinates → clip coordinates): the same
@@ -64,7 +60,8 @@ SceneView::SceneView(const run::SceneRuntime& runtime, const SnapshotLayout& lay
     : m_layout(layout),
       m_held(runtime.held_object()),
       m_grasp_in_body(runtime.grasp_in_body()),
-      m_radius(framing.radius) {
+      m_radius(framing.radius),
+      m_reference_force(run::arrow_reference_force(runtime.description())) {
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
     const reduced::TriangleMesh& surface = runtime.surface(i);
     auto body = std::make_unique<Body>();
@@ -76,14 +73,12 @@ SceneView::SceneView(const run::SceneRuntime& runtime, const SnapshotLayout& lay
     }
     body->pose = runtime.pose(i);
     body->color = i == m_held ? m_colors.held_color : m_colors.other_color;
-    body->smooth = surface.triangles.rows() > smooth_triangles;
+    body->smooth = run::shade_smoothly(surface.triangles);
     body->positions = surface.vertices;
     body->normals.resize(surface.vertices.rows(), 3);
     if (body->smooth) reduced::vertex_normals(body->positions, body->triangles, body->normals);
     m_bodies.push_back(std::move(body));
   }
-  const double saturation = runtime.description().coupling.saturation_force;
-  if (std::isfinite(saturation) && saturation > 0.0) m_reference_force = saturation;
 }
 
 SceneView::~SceneView() = default;

@@ -44,8 +44,8 @@ class SceneView {
   std::vector<std::unique_ptr<Body>> m_bodies;
   int m_held = 0;
   Eigen::Vector3d m_grasp_in_body;
-  double m_radius = 1.0;           // the scene's (m)
-  double m_reference_force = 1.0;  // N drawn as long as the scene's radius
+  double m_radius = 1.0;     // the scene's (m)
+  double m_reference_force;  // N drawn as long as the scene's radius
 };
 
 }  // namespace khz::viewer

@@ -16,6 +16,17 @@ RecordedState record_state(const SceneRuntime& runtime) {
   return state;
 }
 
+int tree_levels(const scene::PreparedScene& prepared) noexcept {
+  int levels = 1;
+  for (const scene::PreparedObject& object : prepared.objects) {
+    if (object.tree) levels = std::max(levels, object.tree->num_levels());
+    if (object.deformable_tree) {
+      levels = std::max(levels, object.deformable_tree->tree().num_levels());
+    }
+  }
+  return levels;
+}
+
 std::vector<SweepSetting> default_sweep(const contact::ContactOptions& scene_options, int levels) {
   contact::ContactOptions base = scene_options;
   base.coherence.enabled = false;

@@ -20,6 +20,17 @@ render::Camera frame_camera(const SceneRuntime& runtime, const FrameOptions& opt
 
 }  // namespace
 
+bool shade_smoothly(const reduced::TriangleMatrix& triangles) noexcept {
+  return triangles.rows() > 200;
+}
+
+double arrow_reference_force(const scene::SceneDescription& scene, double arrow_force) {
+  const double saturation = scene.coupling.saturation_force;
+  return arrow_force > 0.0                               ? arrow_force
+         : std::isfinite(saturation) && saturation > 0.0 ? saturation
+                                                         : 1.0;
+}
+
 FrameRenderer::FrameRenderer(const SceneRuntime& runtime, const FrameOptions& options)
     : m_options(options),
       m_held(runtime.held_object()),
@@ -27,10 +38,7 @@ FrameRenderer::FrameRenderer(const SceneRuntime& runtime, const FrameOptions& op
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
     m_triangles.push_back(runtime.surface(i).triangles);
   }
-  const double saturation = runtime.description().coupling.saturation_force;
-  m_reference_force = options.arrow_force > 0.0                       ? options.arrow_force
-                      : std::isfinite(saturation) && saturation > 0.0 ? saturation
-                                                                      : 1.0;
+  m_reference_force = arrow_reference_force(runtime.description(), options.arrow_force);
 }
 
 render::Image FrameRenderer::render(const FrameContent& frame, FrameSummary* summary) const {
@@ -38,8 +46,7 @@ render::Image FrameRenderer::render(const FrameContent& frame, FrameSummary* sum
   for (std::size_t i = 0; i < frame.surfaces.size(); ++i) {
     render::MeshStyle style;
     style.color = static_cast<int>(i) == m_held ? m_options.held_color : m_options.other_color;
-    // Gouraud shading for curved (finely triangulated) surfaces; boxes keep their edges.
-    style.smooth = m_triangles[i].rows() > 200;
+    style.smooth = shade_smoothly(m_triangles[i]);
     rasterizer.draw_mesh(frame.surfaces[i], m_triangles[i], style);
   }
 

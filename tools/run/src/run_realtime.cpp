@@ -1,23 +1,17 @@
 #include <khz/haptic/loop/haptic_loop.hpp>
 #include <khz/run/run_realtime.hpp>
+#include <khz/run/run_scene.hpp>
 
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <thread>
 
 namespace khz::run {
 
 RealtimeRun run_scene_realtime(SceneRuntime& runtime, double duration,
                                const std::function<bool()>& stop_requested) {
-  const double seconds = duration > 0.0 ? duration : runtime.natural_duration();
-  if (!(seconds > 0.0) || !std::isfinite(seconds)) {
-    throw reduced::Error(
-        "the run has no duration: this device plays no recording, so give one (loop.duration "
-        "in the scene, or khz run --duration)");
-  }
+  const std::size_t cycles = run_cycles(runtime, duration);
   const haptic::LoopOptions& options = runtime.description().loop;
-  const auto cycles = static_cast<std::size_t>(std::ceil(seconds * options.rate_hz - 1e-9));
   RealtimeRun run;
   run.rows.reserve(cycles);
   std::atomic<bool> done{false};

@@ -17,16 +17,20 @@ struct OpenDevice {
 
 }  // namespace
 
-std::vector<CycleRow> run_scene(SceneRuntime& runtime, const RunOptions& options) {
-  const double duration = options.duration > 0.0 ? options.duration : runtime.natural_duration();
-  if (!(duration > 0.0) || !std::isfinite(duration)) {
+std::size_t run_cycles(const SceneRuntime& runtime, double duration) {
+  const double seconds = duration > 0.0 ? duration : runtime.natural_duration();
+  if (!(seconds > 0.0) || !std::isfinite(seconds)) {
     throw reduced::Error(
         "the run has no duration: this device plays no recording, so give one (loop.duration "
         "in the scene, or khz run --duration)");
   }
+  return static_cast<std::size_t>(std::ceil(seconds * runtime.description().loop.rate_hz - 1e-9));
+}
+
+std::vector<CycleRow> run_scene(SceneRuntime& runtime, const RunOptions& options) {
+  const std::size_t cycles = run_cycles(runtime, options.duration);
   if (options.frame_every < 1) throw reduced::Error("RunOptions::frame_every must be >= 1");
   const double period = 1.0 / runtime.description().loop.rate_hz;
-  const auto cycles = static_cast<std::size_t>(std::ceil(duration / period - 1e-9));
   std::vector<CycleRow> rows;
   rows.reserve(cycles);
 

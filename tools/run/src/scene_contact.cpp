@@ -119,13 +119,7 @@ const contact::ContactResult* SceneContact::query(const haptic::Pose& grasp) noe
   held.translation() = grasp.position - held.linear() * m_grasp_in_body;
 
   contact::ContactResult& sum = m_result;
-  sum.force.setZero();
-  sum.torque.setZero();
-  sum.force_by_translation.setZero();
-  sum.force_by_rotation.setZero();
-  sum.torque_by_translation.setZero();
-  sum.torque_by_rotation.setZero();
-  sum.statistics = {};
+  sum = contact::ContactResult{};  // its reduced-force vectors stay empty: nothing allocates
   for (Eigen::VectorXd& force : m_reduced_forces) force.setZero();
 
   bool ok = true;

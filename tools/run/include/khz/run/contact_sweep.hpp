@@ -27,6 +27,9 @@ struct SweepSetting {
   contact::ContactOptions options;
 };
 
+/// The largest level count of the scene's pointshell trees (rigid or deformable); 1 if none.
+int tree_levels(const scene::PreparedScene& prepared) noexcept;
+
 /// The settings `khz report` compares, all derived from the scene's contact options with
 /// temporal coherence off (it changes cost, never the result): first the reference, every
 /// level and no degradation; then each fixed level 0 … levels − 2; then time budgets of 50,

@@ -30,6 +30,14 @@ struct FrameOptions {
   double arrow_force = 0.0;
 };
 
+/// Whether a surface is shaded smoothly (vertex normals) in pictures: finely triangulated
+/// (curved) ones are; coarse ones, boxes say, keep their edges.
+bool shade_smoothly(const reduced::TriangleMatrix& triangles) noexcept;
+
+/// The force (N) drawn as an arrow as long as the scene's radius: `arrow_force` if positive,
+/// else the coupling's saturation force if it has one, else 1 N.
+double arrow_reference_force(const scene::SceneDescription& scene, double arrow_force = 0.0);
+
 /// What a frame showed, for checks and captions.
 struct FrameSummary {
   std::int64_t traversed = 0;   ///< Points drawn as looked at (all pairs).

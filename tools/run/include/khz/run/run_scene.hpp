@@ -5,6 +5,7 @@
 #include <khz/run/cycle_log.hpp>
 #include <khz/run/scene_runtime.hpp>
 
+#include <cstddef>
 #include <functional>
 #include <vector>
 
@@ -21,6 +22,12 @@ struct RunOptions {
   /// ≥ 1; cycles between on_frame calls.
   int frame_every = 33;
 };
+
+/// The cycles a run of `duration` seconds takes (0: SceneRuntime::natural_duration()) at the
+/// scene's loop rate: ⌈duration · rate_hz⌉. What run_scene() and run_scene_realtime() run.
+/// @throws reduced::Error if there is no duration (null and hardware devices play no
+///         recording: set loop.duration, or khz run --duration).
+std::size_t run_cycles(const SceneRuntime& runtime, double duration);
 
 /// Opens the device and runs ⌈duration · rate_hz⌉ cycles of runtime.cycle() at simulated times
 /// t = i / rate_hz. Each cycle's cost is measured on the steady clock, but the device's
