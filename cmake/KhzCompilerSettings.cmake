@@ -30,6 +30,18 @@ if(KHZ_NATIVE)
   add_compile_options(-march=native)
 endif()
 
+# khz_round_as_written(<source>...): compiles the sources without floating-point contraction, so
+# every a·b + c rounds as written (explicit std::fma still fuses). For files whose entry points
+# promise one another's values bit for bit: the compiler inlines shared code into each entry point
+# separately and, allowed to contract, may fuse a multiply-add in one copy and not in another,
+# depending on the CPU it tunes for (docs/ARCHITECTURE.md, "Reproducibility").
+function(khz_round_as_written)
+  if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+    set_source_files_properties(${ARGN} DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}
+                                PROPERTIES COMPILE_OPTIONS -ffp-contract=off)
+  endif()
+endfunction()
+
 if(KHZ_SANITIZE)
   # Applied globally: tests and libraries must agree on the instrumented runtime.
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer

@@ -13,6 +13,15 @@
 #include <string>
 #include <utility>
 
+// Every entry point that promises distance()'s value bit for bit (distance_and_gradient(),
+// culling_distance(), culling_distances(), nearest_proxy()) reaches it through the same source
+// operations: the neighbour search's squared distances, BlendStencil's pull-backs, the grid's
+// interpolation and blended_value(). The compiler inlines these into each entry point
+// separately, and with contraction allowed it may fuse a·b + c in one copy and not in another
+// (CPU tuning decides, e.g. Zen's avoidance of FMA chains). This file is therefore compiled with
+// -ffp-contract=off (libcontact/CMakeLists.txt): each operation rounds as written, the same in
+// every copy, on any CPU.
+
 namespace khz::contact {
 
 namespace {
@@ -307,6 +316,18 @@ struct BlendStencil {
   }
 };
 
+/// Σ u_i d_i / Σ u_i over the stencil's lookups, d_i = value[i]: the one sum every entry point's
+/// exact value goes through, in one order.
+double blended_value(const BlendStencil& b,
+                     const std::array<double, max_neighbours>& value) noexcept {
+  double sum = b.weight[0] * value[0];
+  for (int m = 1; m < b.lookups; ++m) {
+    const auto mm = static_cast<std::size_t>(m);
+    sum += b.weight[mm] * value[mm];
+  }
+  return sum * b.inverse_sum;
+}
+
 /// One domain's blend d = Σ w_i d_i (eq. 3.16, 3.17) and, with_gradient, its gradient; the
 /// derivation of the weights' term is in the comment inside. Writes the nearest proxy.
 template <bool with_gradient>
@@ -322,7 +343,6 @@ double blend(const StateView& s, const DistanceGrid& grid, Eigen::Index begin, E
   const auto& offset = b.offset;
   std::array<double, max_neighbours> value{};
   const Eigen::Index n = s.count;
-  double result = 0.0;
   Eigen::Vector3d field_term = Eigen::Vector3d::Zero();
   for (int m = 0; m < last; ++m) {
     const auto mm = static_cast<std::size_t>(m);
@@ -337,9 +357,8 @@ double blend(const StateView& s, const DistanceGrid& grid, Eigen::Index begin, E
     } else {
       value[mm] = grid.distance(b.pulled[mm]);
     }
-    result += weight[mm] * value[mm];
   }
-  result *= inverse_sum;
+  const double result = blended_value(b, value);
   if constexpr (with_gradient) {
     gradient = inverse_sum * field_term;
     if (b.spread) {
@@ -562,13 +581,14 @@ double blend_above(const BlendStencil& b, const DistanceGrid& grid, double slope
       32.0 * std::numeric_limits<double>::epsilon() * (std::abs(first) + slope * farthest);
   const double bound = first - slope * spread * b.inverse_sum - rounding;
   if (inside && bound > threshold) return bound;
-  // The exact blend, summed in blend()'s order so that the value is the same bit for bit.
-  double result = b.weight[0] * first;
+  // The exact blend, through blend()'s sum, so that the value is the same bit for bit.
+  std::array<double, max_neighbours> value{};
+  value[0] = first;
   for (int m = 1; m < b.lookups; ++m) {
     const auto mm = static_cast<std::size_t>(m);
-    result += b.weight[mm] * grid.distance(b.pulled[mm]);
+    value[mm] = grid.distance(b.pulled[mm]);
   }
-  return result * b.inverse_sum;
+  return blended_value(b, value);
 }
 
 /// k nearest proxies of [begin, end) for up to 8 points at once, each point in one lane of the

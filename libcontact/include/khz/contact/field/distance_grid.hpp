@@ -3,6 +3,7 @@
 // (thesis §3.11).
 
 #include <khz/contact/export.hpp>
+#include <khz/contact/field/detail/multiply_add.hpp>
 #include <khz/contact/field/grid_geometry.hpp>
 
 #include <Eigen/Core>
@@ -100,7 +101,10 @@ class KHZ_CONTACT_API DistanceGrid {
 
   /// Trilinear interpolation at `local` inside the box, and with `with_gradient` its gradient:
   /// one body for both queries, so that distance() returns bit for bit the value
-  /// distance_and_gradient() does, without paying for the derivatives.
+  /// distance_and_gradient() does, without paying for the derivatives. The value's every
+  /// multiply-add is spelled with multiply_add(), so the two instantiations round it alike
+  /// whatever the compiler would fuse in each (the derivatives are free to differ in the last
+  /// bits between builds).
   template <bool with_gradient>
   double interpolate(const Eigen::Vector3d& local, Eigen::Vector3d* gradient) const noexcept {
     const GridGeometry& g = m_geometry;
@@ -116,9 +120,12 @@ class KHZ_CONTACT_API DistanceGrid {
     const double c001 = c[n * n], c101 = c[n * n + 1], c011 = c[n * n + n];
     const double c111 = c[n * n + n + 1];
     // Along x, then y, then z; the derivatives by the same products.
-    const double c00 = c000 + x * (c100 - c000), c10 = c010 + x * (c110 - c010);
-    const double c01 = c001 + x * (c101 - c001), c11 = c011 + x * (c111 - c011);
-    const double c0 = c00 + y * (c10 - c00), c1 = c01 + y * (c11 - c01);
+    using detail::multiply_add;
+    const double c00 = multiply_add(x, c100 - c000, c000);
+    const double c10 = multiply_add(x, c110 - c010, c010);
+    const double c01 = multiply_add(x, c101 - c001, c001);
+    const double c11 = multiply_add(x, c111 - c011, c011);
+    const double c0 = multiply_add(y, c10 - c00, c00), c1 = multiply_add(y, c11 - c01, c01);
     if constexpr (with_gradient) {
       const double dx0 = (c100 - c000) + y * ((c110 - c010) - (c100 - c000));
       const double dx1 = (c101 - c001) + y * ((c111 - c011) - (c101 - c001));
@@ -126,7 +133,7 @@ class KHZ_CONTACT_API DistanceGrid {
       gradient->y() = ((c10 - c00) + z * ((c11 - c01) - (c10 - c00))) * m_inverse_spacing;
       gradient->z() = (c1 - c0) * m_inverse_spacing;
     }
-    return c0 + z * (c1 - c0);
+    return multiply_add(z, c1 - c0, c0);
   }
 
   GridGeometry m_geometry;

@@ -101,8 +101,11 @@ class KHZ_CONTACT_API Sphere {
   const Eigen::Vector3d& center() const noexcept { return m_center; }
   double radius() const noexcept { return m_radius; }
 
+  /// distance_and_gradient()'s value, from its body (the unused gradient is optimized away), so
+  /// the two agree bit for bit.
   double distance(const Eigen::Vector3d& p) const noexcept {
-    return (p - m_center).norm() - m_radius;
+    Eigen::Vector3d unused;
+    return distance_and_gradient(p, unused);
   }
   double distance_and_gradient(const Eigen::Vector3d& p, Eigen::Vector3d& gradient) const noexcept {
     const Eigen::Vector3d offset = p - m_center;
@@ -129,9 +132,10 @@ class KHZ_CONTACT_API Box {
   const Eigen::Vector3d& center() const noexcept { return m_center; }
   const Eigen::Vector3d& half_extents() const noexcept { return m_half_extents; }
 
+  /// distance_and_gradient()'s value, from its body, so the two agree bit for bit.
   double distance(const Eigen::Vector3d& p) const noexcept {
-    const Eigen::Vector3d q = (p - m_center).cwiseAbs() - m_half_extents;
-    return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+    Eigen::Vector3d unused;
+    return distance_and_gradient(p, unused);
   }
   double distance_and_gradient(const Eigen::Vector3d& p, Eigen::Vector3d& gradient) const noexcept {
     const Eigen::Vector3d local = p - m_center;
