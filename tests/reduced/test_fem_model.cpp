@@ -162,14 +162,16 @@ TEST(FemModel, AssemblesRepeatedlyIntoTheSamePattern) {
     model.tangent_stiffness(u, k);
     EXPECT_EQ(k.nonZeros(), nonzeros);
     EXPECT_EQ(std::vector<int>(k.innerIndexPtr(), k.innerIndexPtr() + nonzeros), inner);
-    // Assembly overwrites: the result matches one into a fresh pattern exactly.
+    // Assembly overwrites: the result matches the same call into a fresh pattern exactly.
     SparseMatrix fresh = model.stiffness_pattern();
-    Eigen::VectorXd forces;
-    model.forces_and_stiffness(u, forces, fresh);
+    model.tangent_stiffness(u, fresh);
     EXPECT_EQ(Eigen::MatrixXd(k), Eigen::MatrixXd(fresh));
   }
 }
 
+// One pass and two passes are separately compiled copies of the element loop, which may fuse
+// multiply-adds differently on another CPU: equal to round-off of the largest entry (measured
+// here: bit for bit).
 TEST(FemModel, ForcesAndStiffnessTogetherMatchSeparateCalls) {
   const FemModel model(unit_box(ElementType::hexahedron, {2, 2, 1}), {rubber});
   const Eigen::VectorXd u = random_displacement(model.num_dofs(), 0.2, 4);
@@ -178,8 +180,10 @@ TEST(FemModel, ForcesAndStiffnessTogetherMatchSeparateCalls) {
   SparseMatrix k = model.stiffness_pattern(), k_together = model.stiffness_pattern();
   model.tangent_stiffness(u, k);
   model.forces_and_stiffness(u, together, k_together);
-  EXPECT_EQ(forces, together);
-  EXPECT_EQ(Eigen::MatrixXd(k), Eigen::MatrixXd(k_together));
+  EXPECT_LE((forces - together).cwiseAbs().maxCoeff(), 1e-14 * forces.cwiseAbs().maxCoeff());
+  const Eigen::MatrixXd dense_k(k);
+  EXPECT_LE((dense_k - Eigen::MatrixXd(k_together)).cwiseAbs().maxCoeff(),
+            1e-14 * dense_k.cwiseAbs().maxCoeff());
 }
 
 TEST(FemModel, RejectsStiffnessWithAnotherPattern) {
