@@ -26,7 +26,8 @@ struct FarthestPointOrder {
 /// Orders `points` by farthest-point sampling, starting from point `first`.
 ///
 /// Exact (ties go to a deterministic choice that depends only on the coordinates and indices,
-/// so the order is reproducible across platforms and thread counts). A k-d tree keeps, per
+/// so the order is reproducible across runs and thread counts; builds for different CPUs may
+/// round distances differently and so break near-ties differently). A k-d tree keeps, per
 /// node, the largest distance of its points to the chosen set: choosing a point is a descent to
 /// that maximum, and adding it updates only the nodes whose box is nearer to it than their
 /// largest distance — O(N log N) operations in practice for surface samplings (measured on one

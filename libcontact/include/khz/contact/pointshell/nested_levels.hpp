@@ -41,7 +41,7 @@ KHZ_CONTACT_API std::vector<Eigen::Index> level_ends(Eigen::Index count,
 struct NestedLevelOptions {
   LevelSchedule schedule;
   /// Picks the first point of the farthest-point order (reproducibly: same seed, same points,
-  /// same result on every platform and thread count).
+  /// same result on every run and thread count of a build).
   std::uint64_t seed = 0;
   /// Reports stage "farthest-point order"; cancel by returning false.
   ProgressCallback progress;

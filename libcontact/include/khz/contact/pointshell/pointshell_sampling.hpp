@@ -36,9 +36,11 @@ KHZ_CONTACT_API Pointshell vertex_pointshell(const TriangleMesh& mesh);
 /// on the triangle it was drawn from, and its normal is that triangle's inward unit normal (the
 /// face is the point's closest feature, except on a set of zero area: its edges).
 ///
-/// Reproducible: point k depends only on (seed, k) and the mesh — the same on every platform
-/// and for any thread count (counter-based SplitMix64 streams, not <random>'s
-/// implementation-defined distributions). In parallel (OpenMP).
+/// Reproducible: point k depends only on (seed, k) and the mesh — the same random numbers on
+/// every platform (counter-based SplitMix64 streams, not <random>'s implementation-defined
+/// distributions) and the same point bit for bit for any thread count; builds for different
+/// CPUs may round the areas and coordinates made from them differently in the last bits.
+/// In parallel (OpenMP).
 /// @param count Points wanted, ≥ 1.
 /// @throws MeshError if the mesh fails validate(); Error if count < 1 or the mesh has zero total
 ///         area.

@@ -32,8 +32,9 @@ std::size_t run_cycles(const SceneRuntime& runtime, double duration);
 /// Opens the device and runs ⌈duration · rate_hz⌉ cycles of runtime.cycle() at simulated times
 /// t = i / rate_hz. Each cycle's cost is measured on the steady clock, but the device's
 /// watchdog sees the simulated clock (a cycle takes no simulated time), so the run is
-/// reproducible: the same scene and inputs give the same rows on any machine, whatever its
-/// speed; only the µs columns differ. The exception is degradation by time budget
+/// reproducible: the same scene and inputs give the same rows on every run of a build, whatever
+/// the machine's speed; only the µs columns differ (a build for another CPU agrees to
+/// round-off). The exception is degradation by time budget
 /// (contact.degradation.mode time_budget), whose level of detail follows the measured cost.
 /// The device is closed at the end (also on throw).
 /// @returns one row per cycle.
