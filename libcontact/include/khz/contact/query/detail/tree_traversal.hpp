@@ -297,7 +297,8 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
         const Eigen::Vector3d& field_point = batch_field_points[k - begin];
         const double radius = points.radius(n);
         double d;
-        Eigen::Vector3d field_gradient;  // set with d when the exact gradient is wanted
+        // Set with d when the exact gradient is wanted; zeroed so that no build can read it unset.
+        Eigen::Vector3d field_gradient = Eigen::Vector3d::Zero();
         if (first_instance) {
           // A grid's gradient with every value costs less than a second lookup for the points
           // in contact once more than a few percent of them are; a deformed field's gradient
