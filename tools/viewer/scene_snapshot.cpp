@@ -7,7 +7,7 @@ namespace khz::viewer {
 
 SnapshotLayout::SnapshotLayout(const run::SceneRuntime& runtime) : m_offsets{0} {
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
-    const reduced::ReducedNewmark* integrator = runtime.integrator(i);
+    const reduced::ReducedIntegrator* integrator = runtime.integrator(i);
     const auto r = integrator != nullptr ? static_cast<int>(integrator->coordinates().size()) : 0;
     m_offsets.push_back(m_offsets.back() + r);
   }
@@ -24,7 +24,7 @@ void SnapshotLayout::capture(const haptic::CycleRecord& record, const run::Scene
   snapshot.record = record;
   snapshot.held_pose = runtime.pose(runtime.held_object());
   for (std::size_t i = 0; i + 1 < m_offsets.size(); ++i) {
-    const reduced::ReducedNewmark* integrator = runtime.integrator(static_cast<int>(i));
+    const reduced::ReducedIntegrator* integrator = runtime.integrator(static_cast<int>(i));
     if (integrator == nullptr) continue;
     const Eigen::VectorXd& q = integrator->coordinates();
     std::copy(q.data(), q.data() + q.size(), snapshot.coordinates.begin() + m_offsets[i]);

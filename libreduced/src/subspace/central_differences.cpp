@@ -19,19 +19,12 @@ void ReducedCentralDifferencesOptions::validate() const {
   NewmarkParameters{time_step, 0.0, 0.5, mass_damping, stiffness_damping}.validate();
 }
 
-struct ReducedCentralDifferences::Data {
-  Data(ReducedForceModel& model, const Eigen::MatrixXd& mass,
-       const ReducedCentralDifferencesOptions& opts)
-      : options(opts),
-        state(model, mass, "ReducedCentralDifferences"),
-        solver(model.dimension()),
-        forces(model.dimension()),
-        stiffness(model.dimension(), model.dimension()),
-        system(model.dimension(), model.dimension()),
-        next(model.dimension()),
-        predicted_velocity(model.dimension()),
-        acceleration(model.dimension()),
-        velocity(model.dimension()) {}
+struct ReducedCentralDifferences::Data : detail::StepWorkspace {
+  Data(detail::ReducedState& shared, const ReducedCentralDifferencesOptions& opts)
+      : StepWorkspace(shared.q.size()),
+        options(opts),
+        state(shared),
+        predicted_velocity(shared.q.size()) {}
 
   /// acceleration = f̃ − R̃ − αM̃ q̇_pred: the net force before stiffness damping.
   void net_force(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
@@ -39,47 +32,32 @@ struct ReducedCentralDifferences::Data {
     acceleration = external_force - forces - options.mass_damping * velocity;
   }
 
+  // The workspace's system is M̃ + ½Δt C̃ and its stiffness K̃(q_{n+1}), both used when β > 0.
   ReducedCentralDifferencesOptions options;
-  detail::ReducedState state;
-  detail::DenseSymmetricSolver solver;  // M̃ + ½Δt C̃ when β > 0
-  Eigen::VectorXd forces;               // R̃(q_{n+1})
-  Eigen::MatrixXd stiffness;            // K̃(q_{n+1}), when β > 0
-  Eigen::MatrixXd system;               // M̃ + ½Δt C̃, when β > 0
-  Eigen::VectorXd next;                 // q_{n+1}
-  Eigen::VectorXd predicted_velocity;   // q̇_n + ½Δt q̈_n
-  Eigen::VectorXd acceleration;         // q̈_{n+1}
-  Eigen::VectorXd velocity;             // q̇_{n+1}
+  detail::ReducedState& state;  // the ReducedIntegrator's (its heap object: moves keep it valid)
+  Eigen::VectorXd predicted_velocity;  // q̇_n + ½Δt q̈_n
 };
+
+namespace {
+
+const ReducedCentralDifferencesOptions& validated(const ReducedCentralDifferencesOptions& options) {
+  options.validate();
+  return options;
+}
+
+}  // namespace
 
 ReducedCentralDifferences::ReducedCentralDifferences(
     ReducedForceModel& forces, const Eigen::MatrixXd& mass,
-    const ReducedCentralDifferencesOptions& options) {
-  options.validate();
-  m_data = std::make_unique<Data>(forces, mass, options);
-}
+    const ReducedCentralDifferencesOptions& options)
+    : ReducedIntegrator(forces, mass, "ReducedCentralDifferences", validated(options).time_step,
+                        options.mass_damping, options.stiffness_damping),
+      m_data(std::make_unique<Data>(shared_state(), options)) {}
 ReducedCentralDifferences::~ReducedCentralDifferences() = default;
 ReducedCentralDifferences::ReducedCentralDifferences(ReducedCentralDifferences&&) noexcept =
     default;
 ReducedCentralDifferences& ReducedCentralDifferences::operator=(
     ReducedCentralDifferences&&) noexcept = default;
-
-void ReducedCentralDifferences::set_state(const Eigen::VectorXd& coordinates,
-                                          const Eigen::VectorXd& velocity,
-                                          const Eigen::VectorXd& acceleration) {
-  m_data->state.set_state(coordinates, velocity, acceleration);
-}
-
-void ReducedCentralDifferences::set_state_in_equilibrium(const Eigen::VectorXd& coordinates,
-                                                         const Eigen::VectorXd& velocity,
-                                                         const Eigen::VectorXd& external_force) {
-  const ReducedCentralDifferencesOptions& o = m_data->options;
-  m_data->state.set_state_in_equilibrium(coordinates, velocity, external_force, o.mass_damping,
-                                         o.stiffness_damping);
-}
-
-void ReducedCentralDifferences::set_mass(const Eigen::MatrixXd& mass) {
-  m_data->state.set_mass(mass);
-}
 
 ReducedStepReport ReducedCentralDifferences::step(
     const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
@@ -127,32 +105,8 @@ ReducedStepReport ReducedCentralDifferences::step(
   return report;
 }
 
-Eigen::Index ReducedCentralDifferences::dimension() const noexcept {
-  return m_data->state.q.size();
-}
-const Eigen::VectorXd& ReducedCentralDifferences::coordinates() const noexcept {
-  return m_data->state.q;
-}
-const Eigen::VectorXd& ReducedCentralDifferences::velocity() const noexcept {
-  return m_data->state.velocity;
-}
-const Eigen::VectorXd& ReducedCentralDifferences::acceleration() const noexcept {
-  return m_data->state.acceleration;
-}
-const Eigen::MatrixXd& ReducedCentralDifferences::mass() const noexcept {
-  return m_data->state.mass;
-}
 const ReducedCentralDifferencesOptions& ReducedCentralDifferences::options() const noexcept {
   return m_data->options;
-}
-double ReducedCentralDifferences::time() const noexcept {
-  return static_cast<double>(m_data->state.steps) * m_data->options.time_step;
-}
-double ReducedCentralDifferences::kinetic_energy() const noexcept {
-  return m_data->state.kinetic_energy();
-}
-double ReducedCentralDifferences::strain_energy() const noexcept {
-  return m_data->state.strain_energy();
 }
 
 double reduced_critical_time_step(ReducedForceModel& forces, const Eigen::MatrixXd& mass,

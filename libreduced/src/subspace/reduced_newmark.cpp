@@ -28,21 +28,15 @@ void ReducedNewmarkOptions::validate() const {
   }
 }
 
-struct ReducedNewmark::Data {
-  Data(ReducedForceModel& model, const Eigen::MatrixXd& mass, const ReducedNewmarkOptions& opts)
-      : options(opts),
+struct ReducedNewmark::Data : detail::StepWorkspace {
+  Data(detail::ReducedState& shared, const ReducedNewmarkOptions& opts)
+      : StepWorkspace(shared.q.size()),
+        options(opts),
         constants(NewmarkConstants::from(opts.newmark)),
-        state(model, mass, "ReducedNewmark"),
-        solver(model.dimension()),
-        forces(model.dimension()),
-        stiffness(model.dimension(), model.dimension()),
-        system(model.dimension(), model.dimension()),
-        next(model.dimension()),
-        increment(model.dimension()),
-        velocity(model.dimension()),
-        acceleration(model.dimension()),
-        residual(model.dimension()),
-        work(model.dimension()) {}
+        state(shared),
+        increment(shared.q.size()),
+        residual(shared.q.size()),
+        work(shared.q.size()) {}
 
   /// The scale s of §3.10.2 for this step (1 when the acceleration is within the limit), from the
   /// forces and stiffness evaluated at q_i.
@@ -53,17 +47,12 @@ struct ReducedNewmark::Data {
   /// `next`, takes (1 − s)ΔE out of the kinetic energy of `velocity`.
   void remove_spurious_energy(double scale) noexcept;
 
+  // The workspace's system is A, and its next, velocity and acceleration the current iterate's.
   ReducedNewmarkOptions options;
   NewmarkConstants constants;
-  detail::ReducedState state;
-  detail::DenseSymmetricSolver solver;
-  Eigen::VectorXd forces;                  // R̃(q_{i+1})
-  Eigen::MatrixXd stiffness;               // K̃(q_{i+1})
-  Eigen::MatrixXd system;                  // A
-  Eigen::VectorXd next;                    // q_{i+1}
-  Eigen::VectorXd increment;               // Δq = q_{i+1} − q_i
-  Eigen::VectorXd velocity, acceleration;  // q̇_{i+1}, q̈_{i+1} of the current iterate
-  Eigen::VectorXd residual;                // then the Newton update
+  detail::ReducedState& state;  // the ReducedIntegrator's (its heap object: moves keep it valid)
+  Eigen::VectorXd increment;    // Δq = q_{i+1} − q_i
+  Eigen::VectorXd residual;     // then the Newton update
   Eigen::VectorXd work;
 };
 
@@ -91,29 +80,23 @@ void ReducedNewmark::Data::remove_spurious_energy(double scale) noexcept {
   velocity *= kinetic > spurious ? std::sqrt(1.0 - spurious / kinetic) : 0.0;
 }
 
-ReducedNewmark::ReducedNewmark(ReducedForceModel& forces, const Eigen::MatrixXd& mass,
-                               const ReducedNewmarkOptions& options) {
+namespace {
+
+const ReducedNewmarkOptions& validated(const ReducedNewmarkOptions& options) {
   options.validate();
-  m_data = std::make_unique<Data>(forces, mass, options);
+  return options;
 }
+
+}  // namespace
+
+ReducedNewmark::ReducedNewmark(ReducedForceModel& forces, const Eigen::MatrixXd& mass,
+                               const ReducedNewmarkOptions& options)
+    : ReducedIntegrator(forces, mass, "ReducedNewmark", validated(options).newmark.time_step,
+                        options.newmark.mass_damping, options.newmark.stiffness_damping),
+      m_data(std::make_unique<Data>(shared_state(), options)) {}
 ReducedNewmark::~ReducedNewmark() = default;
 ReducedNewmark::ReducedNewmark(ReducedNewmark&&) noexcept = default;
 ReducedNewmark& ReducedNewmark::operator=(ReducedNewmark&&) noexcept = default;
-
-void ReducedNewmark::set_state(const Eigen::VectorXd& coordinates, const Eigen::VectorXd& velocity,
-                               const Eigen::VectorXd& acceleration) {
-  m_data->state.set_state(coordinates, velocity, acceleration);
-}
-
-void ReducedNewmark::set_state_in_equilibrium(const Eigen::VectorXd& coordinates,
-                                              const Eigen::VectorXd& velocity,
-                                              const Eigen::VectorXd& external_force) {
-  const NewmarkParameters& p = m_data->options.newmark;
-  m_data->state.set_state_in_equilibrium(coordinates, velocity, external_force, p.mass_damping,
-                                         p.stiffness_damping);
-}
-
-void ReducedNewmark::set_mass(const Eigen::MatrixXd& mass) { m_data->state.set_mass(mass); }
 
 ReducedStepReport ReducedNewmark::step(
     const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
@@ -184,18 +167,6 @@ ReducedStepReport ReducedNewmark::step(
   return report;
 }
 
-Eigen::Index ReducedNewmark::dimension() const noexcept { return m_data->state.q.size(); }
-const Eigen::VectorXd& ReducedNewmark::coordinates() const noexcept { return m_data->state.q; }
-const Eigen::VectorXd& ReducedNewmark::velocity() const noexcept { return m_data->state.velocity; }
-const Eigen::VectorXd& ReducedNewmark::acceleration() const noexcept {
-  return m_data->state.acceleration;
-}
-const Eigen::MatrixXd& ReducedNewmark::mass() const noexcept { return m_data->state.mass; }
 const ReducedNewmarkOptions& ReducedNewmark::options() const noexcept { return m_data->options; }
-double ReducedNewmark::time() const noexcept {
-  return static_cast<double>(m_data->state.steps) * m_data->options.newmark.time_step;
-}
-double ReducedNewmark::kinetic_energy() const noexcept { return m_data->state.kinetic_energy(); }
-double ReducedNewmark::strain_energy() const noexcept { return m_data->state.strain_energy(); }
 
 }  // namespace khz::reduced

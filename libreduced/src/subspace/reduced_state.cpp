@@ -39,8 +39,12 @@ Eigen::LLT<Eigen::MatrixXd> factor_reduced_mass(const Eigen::MatrixXd& mass, Eig
 }
 
 ReducedState::ReducedState(ReducedForceModel& model, const Eigen::MatrixXd& reduced_mass,
-                           std::string owner_name)
-    : forces(model), owner(std::move(owner_name)) {
+                           std::string owner_name, double step, double alpha, double beta)
+    : forces(model),
+      owner(std::move(owner_name)),
+      time_step(step),
+      mass_damping(alpha),
+      stiffness_damping(beta) {
   const Eigen::Index r = forces.dimension();
   if (r < 1) throw Error(owner + ": the force model has no reduced coordinates");
   assign_mass(reduced_mass, owner);
@@ -65,8 +69,7 @@ void ReducedState::set_state(const Eigen::VectorXd& coordinates, const Eigen::Ve
 
 void ReducedState::set_state_in_equilibrium(const Eigen::VectorXd& coordinates,
                                             const Eigen::VectorXd& v,
-                                            const Eigen::VectorXd& external_force,
-                                            double mass_damping, double stiffness_damping) {
+                                            const Eigen::VectorXd& external_force) {
   const Eigen::Index r = q.size();
   for (const Eigen::VectorXd* vector : {&coordinates, &v, &external_force}) {
     if (vector->size() != r) {

@@ -3,6 +3,8 @@
 
 #include <khz/reduced/subspace/reduced_forces.hpp>
 
+#include "subspace/dense_symmetric_solve.hpp"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
@@ -16,11 +18,13 @@ namespace khz::reduced::detail {
 Eigen::LLT<Eigen::MatrixXd> factor_reduced_mass(const Eigen::MatrixXd& mass, Eigen::Index r,
                                                 const std::string& owner);
 
-/// Reduced coordinates q, velocities q̇, accelerations q̈ and the mass M̃ (with its factor) of a
-/// reduced integrator over a force model, plus the checked setters both integrators expose.
+/// Reduced coordinates q, velocities q̇, accelerations q̈, the step count and the mass M̃ (with
+/// its factor) of a reduced integrator over a force model, its Δt and Rayleigh damping, and the
+/// checked setters of ReducedIntegrator.
 struct ReducedState {
   /// @throws Error for a model of dimension 0 or an invalid mass.
-  ReducedState(ReducedForceModel& model, const Eigen::MatrixXd& reduced_mass, std::string owner);
+  ReducedState(ReducedForceModel& model, const Eigen::MatrixXd& reduced_mass, std::string owner,
+               double time_step, double mass_damping, double stiffness_damping);
 
   /// @throws Error (nothing changed) for wrong sizes or non-finite values.
   void set_state(const Eigen::VectorXd& coordinates, const Eigen::VectorXd& velocity,
@@ -29,8 +33,7 @@ struct ReducedState {
   /// damping of §2.9). @throws Error for wrong sizes or non-finite input, SolverError if the
   /// model returns non-finite values; nothing is changed then.
   void set_state_in_equilibrium(const Eigen::VectorXd& coordinates, const Eigen::VectorXd& velocity,
-                                const Eigen::VectorXd& external_force, double mass_damping,
-                                double stiffness_damping);
+                                const Eigen::VectorXd& external_force);
   /// @throws Error (mass unchanged) for an invalid mass.
   void set_mass(const Eigen::MatrixXd& reduced_mass);
 
@@ -45,7 +48,10 @@ struct ReducedState {
   double strain_energy() const noexcept;   ///< E(q).
 
   ReducedForceModel& forces;
-  std::string owner;  ///< Class name that starts error messages.
+  std::string owner;         ///< Class name that starts error messages.
+  double time_step;          ///< Δt (s).
+  double mass_damping;       ///< Rayleigh α (1/s).
+  double stiffness_damping;  ///< Rayleigh β (s).
   Eigen::MatrixXd mass;
   Eigen::LLT<Eigen::MatrixXd> mass_factor;
   /// M̃ is the identity to within 1e-12 per entry, as for a mass-orthonormal basis (thesis §2.9),
@@ -57,6 +63,28 @@ struct ReducedState {
  private:
   /// Factors, stores and classifies a new mass. @throws Error starting with `context`.
   void assign_mass(const Eigen::MatrixXd& reduced_mass, const std::string& context);
+};
+
+/// The scratch every step of either scheme needs, sized once for r coordinates so that a step
+/// allocates nothing: R̃ and K̃ at the new q, the dense system and its solver, and the new q, q̇,
+/// q̈ before they are accepted.
+struct StepWorkspace {
+  explicit StepWorkspace(Eigen::Index r)
+      : solver(r),
+        forces(r),
+        stiffness(r, r),
+        system(r, r),
+        next(r),
+        velocity(r),
+        acceleration(r) {}
+
+  DenseSymmetricSolver solver;
+  Eigen::VectorXd forces;        ///< R̃ at the new q.
+  Eigen::MatrixXd stiffness;     ///< K̃ at the new q (when the scheme needs it).
+  Eigen::MatrixXd system;        ///< The step's dense system matrix.
+  Eigen::VectorXd next;          ///< q of the new state.
+  Eigen::VectorXd velocity;      ///< q̇ of the new state.
+  Eigen::VectorXd acceleration;  ///< q̈ of the new state.
 };
 
 }  // namespace khz::reduced::detail

@@ -2,6 +2,7 @@
 #include <khz/haptic/device/simulated_operator.hpp>
 #include <khz/haptic/device/trajectory_device.hpp>
 #include <khz/reduced/subspace/embedded_surface.hpp>
+#include <khz/reduced/subspace/reduced_newmark.hpp>
 #include <khz/run/scene_runtime.hpp>
 #include <khz/scene/body_mesh.hpp>
 #include <khz/scene/read_scene.hpp>
@@ -15,7 +16,7 @@ namespace khz::run {
 struct SceneRuntime::Object {
   reduced::TriangleMesh surface;
   std::unique_ptr<reduced::PolynomialForces> forces;
-  std::unique_ptr<reduced::ReducedNewmark> integrator;
+  std::unique_ptr<reduced::ReducedIntegrator> integrator;
   std::unique_ptr<contact::DeformedFieldState> field_state;
   std::unique_ptr<reduced::EmbeddedSurface> embedded_surface;  // on first deformed_vertices()
 };
@@ -177,11 +178,11 @@ const Eigen::Isometry3d& SceneRuntime::pose(int object) const noexcept {
 }
 
 Eigen::VectorXd SceneRuntime::coordinates(int object) const {
-  const reduced::ReducedNewmark* integrator = this->integrator(object);
+  const reduced::ReducedIntegrator* integrator = this->integrator(object);
   return integrator != nullptr ? integrator->coordinates() : Eigen::VectorXd();
 }
 
-const reduced::ReducedNewmark* SceneRuntime::integrator(int object) const noexcept {
+const reduced::ReducedIntegrator* SceneRuntime::integrator(int object) const noexcept {
   return m_objects[static_cast<std::size_t>(object)]->integrator.get();
 }
 

@@ -4,7 +4,7 @@
 
 #include <khz/contact/query/contact_query.hpp>
 #include <khz/haptic/common.hpp>
-#include <khz/reduced/subspace/reduced_newmark.hpp>
+#include <khz/reduced/subspace/reduced_integrator.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -28,9 +28,9 @@ class ContactScene {
   virtual bool advance() noexcept = 0;
 };
 
-/// A pointshell object (a PointTree, or a DeformablePointTree with its ReducedNewmark) against a
+/// A pointshell object (a PointTree, or a DeformablePointTree with its ReducedIntegrator) against a
 /// distance-field object of type Field (a rigid field, or a deformable one such as a
-/// DeformedFieldState with its ReducedNewmark), one of them held.
+/// DeformedFieldState with its ReducedIntegrator), one of them held.
 ///
 /// The held object is placed by its grasp frame: body pose = grasp pose · translation(−G), with
 /// G the grasp point in the held object's body coordinates (orientations coincide). The other
@@ -53,8 +53,8 @@ class PointshellFieldScene final : public ContactScene {
   PointshellFieldScene(const Tree& tree, FieldReference field,
                        const contact::ContactOptions& options, const Eigen::Vector3d& grasp_in_body,
                        const Eigen::Isometry3d& fixed_pose,
-                       reduced::ReducedNewmark* integrator = nullptr,
-                       reduced::ReducedNewmark* field_integrator = nullptr)
+                       reduced::ReducedIntegrator* integrator = nullptr,
+                       reduced::ReducedIntegrator* field_integrator = nullptr)
       : m_tree(tree),
         m_field(field),
         m_workspace(tree, options, field_dimension(field)),
@@ -127,8 +127,8 @@ class PointshellFieldScene final : public ContactScene {
   contact::ContactWorkspace m_workspace;
   Eigen::Vector3d m_grasp_in_body;
   Eigen::Isometry3d m_fixed;
-  reduced::ReducedNewmark* m_integrator;
-  reduced::ReducedNewmark* m_field_integrator;
+  reduced::ReducedIntegrator* m_integrator;
+  reduced::ReducedIntegrator* m_field_integrator;
 };
 
 /// Deduces the scene's types from its tree and field (a deformable field is taken by non-const

@@ -3,8 +3,7 @@
 // limit.
 
 #include <khz/reduced/export.hpp>
-#include <khz/reduced/subspace/reduced_forces.hpp>
-#include <khz/reduced/subspace/reduced_step_report.hpp>
+#include <khz/reduced/subspace/reduced_integrator.hpp>
 
 #include <Eigen/Core>
 
@@ -38,48 +37,25 @@ struct KHZ_REDUCED_API ReducedCentralDifferencesOptions {
 /// so this integrator needs far smaller steps than ReducedNewmark; it is the reference for the
 /// explicit-versus-implicit comparison. step() allocates nothing and never throws. Not
 /// thread-safe.
-class KHZ_REDUCED_API ReducedCentralDifferences {
+class KHZ_REDUCED_API ReducedCentralDifferences final : public ReducedIntegrator {
  public:
   /// @param forces the reduced force model (r coordinates); must outlive the integrator.
   /// @param mass   M̃, r×r symmetric positive definite.
-  /// State starts at rest at q = 0, time 0.
+  /// State starts at rest at q = 0, time 0 (set_state_in_equilibrium() gives the consistent q̈
+  /// this scheme needs when starting elsewhere).
   /// @throws Error for invalid options or mass (naming the problem).
   ReducedCentralDifferences(ReducedForceModel& forces, const Eigen::MatrixXd& mass,
                             const ReducedCentralDifferencesOptions& options = {});
-  ~ReducedCentralDifferences();
+  ~ReducedCentralDifferences() override;
   ReducedCentralDifferences(ReducedCentralDifferences&&) noexcept;
   ReducedCentralDifferences& operator=(ReducedCentralDifferences&&) noexcept;
 
-  /// Sets q, q̇, q̈ (r entries each). @throws Error for wrong sizes or non-finite values.
-  void set_state(const Eigen::VectorXd& coordinates, const Eigen::VectorXd& velocity,
-                 const Eigen::VectorXd& acceleration);
+  /// One explicit step; see ReducedIntegrator::step() for the contract. Status converged on
+  /// success (iterations and residual_norm are 0); an unstable step size ends as failed once the
+  /// growing state overflows.
+  ReducedStepReport step(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept override;
 
-  /// Sets q, q̇ and the consistent q̈ = M̃⁻¹(f̃ − R̃(q) − C̃(q) q̇); central differences need it,
-  /// since q_{n+1} uses q̈_n. @throws Error for wrong sizes or non-finite input; SolverError if
-  /// the model returns non-finite forces. The state is unchanged on throw.
-  void set_state_in_equilibrium(const Eigen::VectorXd& coordinates, const Eigen::VectorXd& velocity,
-                                const Eigen::VectorXd& external_force);
-
-  /// Replaces M̃; the state is kept. @throws Error (mass unchanged) unless r×r, finite,
-  /// symmetric and positive definite.
-  void set_mass(const Eigen::MatrixXd& mass);
-
-  /// Advances one step under f̃_{n+1} (r entries). Never throws, never allocates. Status
-  /// converged on success (iterations and residual_norm are 0); failed, with q, q̇, q̈ and
-  /// time untouched, for a non-finite external force, force, stiffness or new state (an
-  /// unstable step size ends this way once the growing state overflows). A wrong-sized force
-  /// asserts in debug builds and fails likewise in release builds.
-  ReducedStepReport step(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept;
-
-  Eigen::Index dimension() const noexcept;               ///< r.
-  const Eigen::VectorXd& coordinates() const noexcept;   ///< q, r entries.
-  const Eigen::VectorXd& velocity() const noexcept;      ///< q̇ (per s).
-  const Eigen::VectorXd& acceleration() const noexcept;  ///< q̈ (per s²).
-  const Eigen::MatrixXd& mass() const noexcept;          ///< M̃.
   const ReducedCentralDifferencesOptions& options() const noexcept;
-  double time() const noexcept;            ///< Steps taken × Δt (s).
-  double kinetic_energy() const noexcept;  ///< ½ q̇ᵀ M̃ q̇ (J); allocates nothing.
-  double strain_energy() const noexcept;   ///< E(q) of the force model (J).
 
  private:
   struct Data;

@@ -4,8 +4,7 @@
 
 #include <khz/reduced/export.hpp>
 #include <khz/reduced/solvers/newmark_parameters.hpp>
-#include <khz/reduced/subspace/reduced_forces.hpp>
-#include <khz/reduced/subspace/reduced_step_report.hpp>
+#include <khz/reduced/subspace/reduced_integrator.hpp>
 
 #include <Eigen/Core>
 
@@ -65,11 +64,9 @@ struct KHZ_REDUCED_API ReducedNewmarkOptions {
 /// eigendecomposition with the true eigenvalues, eigenvalues with |λ| ≤ 1e-12·max|λ| treated as
 /// zero (pseudo-inverse; ReducedStepReport::fallback_solve tells).
 ///
-/// M̃ is the reduced mass, the identity for a mass-orthonormal basis (UᵀMU = I), but any
-/// symmetric positive definite matrix is accepted: densities may change at runtime
-/// (set_mass()). step() allocates nothing and never throws; the other members may do both.
-/// Not thread-safe (it drives a force model with workspaces).
-class KHZ_REDUCED_API ReducedNewmark {
+/// State, mass and their setters are ReducedIntegrator's. step() allocates nothing and never
+/// throws. Not thread-safe (it drives a force model with workspaces).
+class KHZ_REDUCED_API ReducedNewmark final : public ReducedIntegrator {
  public:
   /// @param forces the reduced force model (r coordinates); must outlive the integrator.
   /// @param mass   M̃, r×r symmetric positive definite.
@@ -77,43 +74,15 @@ class KHZ_REDUCED_API ReducedNewmark {
   /// @throws Error for invalid options or mass (naming the problem).
   ReducedNewmark(ReducedForceModel& forces, const Eigen::MatrixXd& mass,
                  const ReducedNewmarkOptions& options = {});
-  ~ReducedNewmark();
+  ~ReducedNewmark() override;
   ReducedNewmark(ReducedNewmark&&) noexcept;
   ReducedNewmark& operator=(ReducedNewmark&&) noexcept;
 
-  /// Sets q, q̇, q̈ (r entries each). @throws Error for wrong sizes or non-finite values.
-  void set_state(const Eigen::VectorXd& coordinates, const Eigen::VectorXd& velocity,
-                 const Eigen::VectorXd& acceleration);
+  /// One step as the class comment describes; see ReducedIntegrator::step() for the contract.
+  /// Status iteration_limit when max_newton_iterations ran without meeting the tolerance.
+  ReducedStepReport step(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept override;
 
-  /// Sets q and q̇ (r entries each) and the acceleration the equation of motion gives under
-  /// `external_force` f̃: q̈ = M̃⁻¹(f̃ − R̃(q) − C̃(q) q̇). Starting from a consistent
-  /// acceleration avoids the energy jump an arbitrary q̈₀ causes in the first step.
-  /// @throws Error for wrong sizes or non-finite input; SolverError if the model returns
-  ///         non-finite forces. The state is unchanged on throw.
-  void set_state_in_equilibrium(const Eigen::VectorXd& coordinates, const Eigen::VectorXd& velocity,
-                                const Eigen::VectorXd& external_force);
-
-  /// Replaces M̃ (e.g. after a density change); the state is kept (call
-  /// set_state_in_equilibrium() for an acceleration consistent with the new mass).
-  /// @throws Error (mass unchanged) unless r×r, finite, symmetric and positive definite.
-  void set_mass(const Eigen::MatrixXd& mass);
-
-  /// Advances one time step under the reduced external force f̃_{i+1} (r entries, Uᵀ f for a
-  /// full force f) held over the step. Never throws, never allocates; failures are reported:
-  /// a non-finite external force, force, stiffness, solution or new state gives status failed
-  /// and leaves q, q̇, q̈ and time untouched. A wrong-sized force asserts in debug builds and
-  /// fails likewise in release builds.
-  ReducedStepReport step(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept;
-
-  Eigen::Index dimension() const noexcept;               ///< r.
-  const Eigen::VectorXd& coordinates() const noexcept;   ///< q, r entries.
-  const Eigen::VectorXd& velocity() const noexcept;      ///< q̇ (per s).
-  const Eigen::VectorXd& acceleration() const noexcept;  ///< q̈ (per s²).
-  const Eigen::MatrixXd& mass() const noexcept;          ///< M̃.
   const ReducedNewmarkOptions& options() const noexcept;
-  double time() const noexcept;            ///< Steps taken × Δt (s).
-  double kinetic_energy() const noexcept;  ///< ½ q̇ᵀ M̃ q̇ (J); allocates nothing.
-  double strain_energy() const noexcept;   ///< E(q) of the force model (J).
 
  private:
   struct Data;

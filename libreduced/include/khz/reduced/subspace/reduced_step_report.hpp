@@ -17,7 +17,7 @@ enum class ReducedStepStatus {
   failed,
 };
 
-/// Outcome of ReducedNewmark::step() and ReducedCentralDifferences::step().
+/// Outcome of ReducedIntegrator::step() (ReducedNewmark, ReducedCentralDifferences).
 struct ReducedStepReport {
   ReducedStepStatus status = ReducedStepStatus::failed;
   /// Linear solves performed (Newton iterations; 0 for explicit steps or when the residual of

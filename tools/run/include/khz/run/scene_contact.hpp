@@ -8,7 +8,7 @@
 #include <khz/contact/tree/deformable_point_tree.hpp>
 #include <khz/contact/tree/point_tree.hpp>
 #include <khz/haptic/cycle/contact_scene.hpp>
-#include <khz/reduced/subspace/reduced_newmark.hpp>
+#include <khz/reduced/subspace/reduced_integrator.hpp>
 
 #include <Eigen/Geometry>
 
@@ -29,7 +29,7 @@ struct ContactBody {
   /// state, which advance() updates to the object's q.
   std::variant<std::monostate, const contact::DistanceGrid*, contact::DeformedFieldState*> field;
   /// A reduced object's integrator (r coordinates), stepped by advance(); null for rigid ones.
-  reduced::ReducedNewmark* integrator = nullptr;
+  reduced::ReducedIntegrator* integrator = nullptr;
 };
 
 /// The held object (one role: pointshell or distance field) against every other object with the

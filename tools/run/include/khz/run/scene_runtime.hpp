@@ -78,7 +78,7 @@ class SceneRuntime {
   /// Object i's reduced coordinates q (empty for rigid objects).
   Eigen::VectorXd coordinates(int object) const;
   /// Object i's integrator (null for rigid objects).
-  const reduced::ReducedNewmark* integrator(int object) const noexcept;
+  const reduced::ReducedIntegrator* integrator(int object) const noexcept;
   /// Puts reduced object i at rest in configuration q (r entries; velocity and acceleration
   /// zero) and deforms its distance field to it, if it has one: to replay recorded states.
   /// @throws reduced::Error for a rigid object, a q of the wrong size or not finite, or a q

@@ -1,0 +1,67 @@
+#include <khz/reduced/errors.hpp>
+#include <khz/reduced/subspace/reduced_integrator.hpp>
+
+#include "subspace/reduced_state.hpp"
+
+#include <utility>
+
+namespace khz::reduced {
+
+ReducedIntegrator::ReducedIntegrator(ReducedForceModel& forces, const Eigen::MatrixXd& mass,
+                                     std::string name, double time_step, double mass_damping,
+                                     double stiffness_damping)
+    : m_state(std::make_unique<detail::ReducedState>(forces, mass, std::move(name), time_step,
+                                                     mass_damping, stiffness_damping)) {}
+
+ReducedIntegrator::~ReducedIntegrator() = default;
+ReducedIntegrator::ReducedIntegrator(ReducedIntegrator&&) noexcept = default;
+ReducedIntegrator& ReducedIntegrator::operator=(ReducedIntegrator&&) noexcept = default;
+
+Eigen::Index ReducedIntegrator::dimension() const noexcept { return m_state->q.size(); }
+const Eigen::VectorXd& ReducedIntegrator::coordinates() const noexcept { return m_state->q; }
+const Eigen::VectorXd& ReducedIntegrator::velocity() const noexcept { return m_state->velocity; }
+const Eigen::VectorXd& ReducedIntegrator::acceleration() const noexcept {
+  return m_state->acceleration;
+}
+const Eigen::MatrixXd& ReducedIntegrator::mass() const noexcept { return m_state->mass; }
+double ReducedIntegrator::time_step() const noexcept { return m_state->time_step; }
+double ReducedIntegrator::time() const noexcept {
+  return static_cast<double>(m_state->steps) * m_state->time_step;
+}
+double ReducedIntegrator::kinetic_energy() const noexcept { return m_state->kinetic_energy(); }
+double ReducedIntegrator::strain_energy() const noexcept { return m_state->strain_energy(); }
+
+ReducedIntegratorState ReducedIntegrator::state() const {
+  return {m_state->q, m_state->velocity, m_state->acceleration, m_state->steps};
+}
+
+void ReducedIntegrator::set_state(const ReducedIntegratorState& state) {
+  if (state.steps < 0) {
+    throw Error(m_state->owner + "::set_state: negative step count " + std::to_string(state.steps));
+  }
+  m_state->set_state(state.coordinates, state.velocity, state.acceleration);
+  m_state->steps = state.steps;
+}
+
+void ReducedIntegrator::set_state(const Eigen::VectorXd& coordinates,
+                                  const Eigen::VectorXd& velocity,
+                                  const Eigen::VectorXd& acceleration) {
+  m_state->set_state(coordinates, velocity, acceleration);
+}
+
+void ReducedIntegrator::set_state_in_equilibrium(const Eigen::VectorXd& coordinates,
+                                                 const Eigen::VectorXd& velocity,
+                                                 const Eigen::VectorXd& external_force) {
+  m_state->set_state_in_equilibrium(coordinates, velocity, external_force);
+}
+
+void ReducedIntegrator::reset() noexcept {
+  m_state->q.setZero();
+  m_state->velocity.setZero();
+  m_state->acceleration.setZero();
+  m_state->steps = 0;
+}
+
+void ReducedIntegrator::set_mass(const Eigen::MatrixXd& mass) { m_state->set_mass(mass); }
+
+}  // namespace khz::reduced

@@ -1,0 +1,111 @@
+// ReducedIntegrator: both schemes driven through the one interface the runtime uses, its state
+// round trip, reset, and the checks its setters share.
+#include <khz/reduced/errors.hpp>
+#include <khz/reduced/subspace/central_differences.hpp>
+#include <khz/reduced/subspace/reduced_integrator.hpp>
+#include <khz/reduced/subspace/reduced_newmark.hpp>
+#include <khz/test/allocation_probe.hpp>
+#include <khz/test/analytic_reduced_forces.hpp>
+#include <khz/test/fixtures.hpp>
+#include <khz/test/newmark_options.hpp>
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <vector>
+
+namespace khz::reduced {
+namespace {
+
+using test::SpringChainForces;
+using test::throws_with_message;
+
+/// A stiffening three-spring chain, one force model per integrator (models keep workspaces).
+struct Chains {
+  SpringChainForces implicit_chain{3, 100.0, 1e4};
+  SpringChainForces explicit_chain{3, 100.0, 1e4};
+};
+
+std::vector<std::unique_ptr<ReducedIntegrator>> both_schemes(Chains& chains) {
+  ReducedCentralDifferencesOptions explicit_options;
+  explicit_options.time_step = 1e-3;  // below the critical step at these deflections
+  explicit_options.mass_damping = 0.5;
+  std::vector<std::unique_ptr<ReducedIntegrator>> integrators;
+  integrators.push_back(
+      std::make_unique<ReducedNewmark>(chains.implicit_chain, Eigen::MatrixXd::Identity(3, 3),
+                                       test::trapezoidal_options(1e-3, 3, 1e-12, 0.5)));
+  integrators.push_back(std::make_unique<ReducedCentralDifferences>(
+      chains.explicit_chain, Eigen::MatrixXd::Identity(3, 3), explicit_options));
+  return integrators;
+}
+
+const Eigen::Vector3d push(0.0, 0.0, 3.0);
+
+// Through the interface, each scheme gives exactly what the concrete class gives (one step()
+// body, reached by one virtual call), and state() / set_state() restore a trajectory bit for bit.
+TEST(ReducedIntegrator, StateRoundTripRestoresTheTrajectory) {
+  Chains chains;
+  for (const std::unique_ptr<ReducedIntegrator>& integrator : both_schemes(chains)) {
+    ReducedIntegrator& base = *integrator;
+    for (int i = 0; i < 20; ++i) ASSERT_NE(base.step(push).status, ReducedStepStatus::failed);
+    const ReducedIntegratorState saved = base.state();
+    EXPECT_EQ(saved.steps, 20);
+    EXPECT_DOUBLE_EQ(base.time(), 20 * base.time_step());
+    std::vector<Eigen::VectorXd> first;
+    for (int i = 0; i < 10; ++i) {
+      base.step(push);
+      first.push_back(base.coordinates());
+    }
+    base.set_state(saved);
+    EXPECT_EQ(base.time(), saved.steps * base.time_step());
+    for (int i = 0; i < 10; ++i) {
+      base.step(push);
+      EXPECT_EQ(base.coordinates(), first[static_cast<std::size_t>(i)]) << "step " << i;
+    }
+    EXPECT_GT(base.coordinates().norm(), 1e-3);  // the push moved it
+  }
+}
+
+TEST(ReducedIntegrator, ResetReturnsToRestAtTimeZeroWithoutAllocating) {
+  Chains chains;
+  for (const std::unique_ptr<ReducedIntegrator>& integrator : both_schemes(chains)) {
+    for (int i = 0; i < 5; ++i) integrator->step(push);
+    ASSERT_GT(integrator->velocity().norm(), 0.0);
+    const Eigen::VectorXd no_force = Eigen::VectorXd::Zero(3);
+    test::allocation_count = 0;
+    integrator->reset();
+    const ReducedStepReport report = integrator->step(no_force);
+    EXPECT_EQ(test::allocation_count, 0u);
+    EXPECT_NE(report.status, ReducedStepStatus::failed);
+    // At rest at the rest shape under no force, a step stays there.
+    EXPECT_EQ(integrator->coordinates(), Eigen::Vector3d::Zero());
+    EXPECT_EQ(integrator->velocity(), Eigen::Vector3d::Zero());
+    EXPECT_DOUBLE_EQ(integrator->time(), integrator->time_step());
+    EXPECT_EQ(integrator->kinetic_energy(), 0.0);
+    EXPECT_EQ(integrator->strain_energy(), 0.0);
+  }
+}
+
+TEST(ReducedIntegrator, SettersRejectBadStatesNamingTheClassAndKeepTheOldOne) {
+  Chains chains;
+  for (const std::unique_ptr<ReducedIntegrator>& integrator : both_schemes(chains)) {
+    integrator->step(push);
+    const ReducedIntegratorState before = integrator->state();
+    ReducedIntegratorState wrong = before;
+    wrong.velocity = Eigen::VectorXd::Zero(2);
+    EXPECT_TRUE(throws_with_message<Error>([&] { integrator->set_state(wrong); },
+                                           "set_state: expected vectors of 3 entries, got 2"));
+    wrong = before;
+    wrong.steps = -1;
+    EXPECT_TRUE(throws_with_message<Error>([&] { integrator->set_state(wrong); },
+                                           "set_state: negative step count -1"));
+    EXPECT_TRUE(throws_with_message<Error>(
+        [&] { integrator->set_mass(Eigen::MatrixXd::Zero(3, 3)); }, "not positive definite"));
+    EXPECT_EQ(integrator->coordinates(), before.coordinates);
+    EXPECT_EQ(integrator->velocity(), before.velocity);
+    EXPECT_EQ(integrator->time(), before.steps * integrator->time_step());
+  }
+}
+
+}  // namespace
+}  // namespace khz::reduced
