@@ -457,7 +457,7 @@ CostRun run_costs(const SceneSpec& spec, int cycles, bool pause) {
     us[integrator] = microseconds(rig.scene().advance_time);
     us[device_io] = microseconds(rig.device().io_time);
     us[coupling_rest] = total - us[query] - us[integrator] - us[device_io];
-    const bool touching = r.contact_statistics.points_in_contact > 0;
+    const bool touching = r.contact.statistics.points_in_contact > 0;
     for (int p = 0; p < part_count; ++p) {
       run.all[p].push_back(us[p]);
       if (touching) run.in_contact[p].push_back(us[p]);
@@ -466,15 +466,15 @@ CostRun run_costs(const SceneSpec& spec, int cycles, bool pause) {
       ++run.failures;
     }
     if (touching) {
-      run.nodes.push_back(static_cast<double>(r.contact_statistics.nodes_traversed));
-      run.contacts.push_back(static_cast<double>(r.contact_statistics.points_in_contact));
+      run.nodes.push_back(static_cast<double>(r.contact.statistics.nodes_traversed));
+      run.contacts.push_back(static_cast<double>(r.contact.statistics.points_in_contact));
       ++run.deepest_levels[static_cast<std::size_t>(
-          std::clamp(r.contact_statistics.deepest_level, 0, 7))];
+          std::clamp(r.contact.statistics.deepest_level, 0, 7))];
     }
-    if (!r.contact_statistics.complete) ++run.incomplete;
+    if (!r.contact.statistics.complete) ++run.incomplete;
     append_row(csv, i, us[whole], us[query], us[integrator], us[device_io], us[coupling_rest],
-               r.contact_statistics.nodes_traversed, r.contact_statistics.points_in_contact,
-               r.contact_statistics.deepest_level, int{r.contact_statistics.complete},
+               r.contact.statistics.nodes_traversed, r.contact.statistics.points_in_contact,
+               r.contact.statistics.deepest_level, int{r.contact.statistics.complete},
                r.rendered.force.norm());
     run.strongest_rendered = std::max(run.strongest_rendered, r.rendered.force.norm());
     if (i % 20 == 0) {
@@ -698,10 +698,10 @@ void run_loop(const SceneSpec& spec, const LoopRunOptions& options) {
       trace.woke[i] = microseconds(woke - origin) - 1e6 * clock.time;
       trace.work[i] = microseconds(Clock::now() - woke);
       trace.query[i] = microseconds(rig.scene().query_time);
-      trace.contacts[i] = r.contact_statistics.points_in_contact;
+      trace.contacts[i] = r.contact.statistics.points_in_contact;
       trace.size = i + 1;
     }
-    if (!r.contact_statistics.complete) ++trace.degraded;
+    if (!r.contact.statistics.complete) ++trace.degraded;
     const int cpu = sched_getcpu();
     if (cpu >= 0 && cpu < static_cast<int>(trace.cycles_on_cpu.size())) {
       ++trace.cycles_on_cpu[static_cast<std::size_t>(cpu)];

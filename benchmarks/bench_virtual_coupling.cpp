@@ -22,7 +22,7 @@
 namespace {
 
 using namespace khz::haptic;
-using khz::contact::ContactResult;
+using khz::contact::ContactWrench;
 
 Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& v) {
   Eigen::Matrix3d m;
@@ -32,8 +32,8 @@ Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& v) {
 
 // Ten points of a plane z = 0 under the grasp point (0, 0, 0.05), 1 mm deep, inward normal +z:
 // F = Σ k d N, T = Σ r × F, gradients by eq. 4.11–4.12.
-ContactResult plane_contact() {
-  ContactResult contact;
+ContactWrench plane_contact() {
+  ContactWrench contact;
   std::mt19937 random(3);
   std::uniform_real_distribution<double> spread(-0.02, 0.02);
   const double k = 2000.0, depth = -1e-3;
@@ -67,7 +67,7 @@ CouplingOptions options() {
 }
 
 // The system as VirtualCoupling::step solves it: unknowns (Δx, ℓΔω), torque rows over ℓ.
-EquilibriumSystem system_at(const Pose& manipulandum, const ContactResult& contact) {
+EquilibriumSystem system_at(const Pose& manipulandum, const ContactWrench& contact) {
   const CouplingWrench coupling = coupling_wrench(manipulandum, Pose{}, options().springs());
   EquilibriumSystem system = equilibrium_system(coupling, contact);
   Vector6d scale;
@@ -82,7 +82,7 @@ const Pose pressed{
     Eigen::Quaterniond(Eigen::AngleAxisd(0.05, Eigen::Vector3d(1.0, 2.0, 0.0).normalized()))};
 const Pose dragged{{0.5, 0.0, -0.002}, Eigen::Quaterniond::Identity()};
 
-void run_svd(benchmark::State& state, const Pose& manipulandum, const ContactResult& contact) {
+void run_svd(benchmark::State& state, const Pose& manipulandum, const ContactWrench& contact) {
   const EquilibriumSystem system = system_at(manipulandum, contact);
   const Vector6d b = -system.net_wrench;
   Vector6d target;
@@ -97,7 +97,7 @@ void run_svd(benchmark::State& state, const Pose& manipulandum, const ContactRes
 }
 
 void BM_SolveSvd(benchmark::State& state) { run_svd(state, pressed, plane_contact()); }
-void BM_SolveSvdDegenerate(benchmark::State& state) { run_svd(state, dragged, ContactResult{}); }
+void BM_SolveSvdDegenerate(benchmark::State& state) { run_svd(state, dragged, ContactWrench{}); }
 
 void BM_SolveLu(benchmark::State& state) {
   const EquilibriumSystem system = system_at(pressed, plane_contact());
@@ -108,7 +108,7 @@ void BM_SolveLu(benchmark::State& state) {
 // Whole steps along a circle 1 cm across, pressing 2 mm into the plane, turning about z: the
 // contact result stays the plane's (the query is not part of this cost).
 void BM_CouplingStep(benchmark::State& state) {
-  const ContactResult contact = plane_contact();
+  const ContactWrench contact = plane_contact();
   VirtualCoupling coupling(options());
   std::vector<double> nanoseconds;
   nanoseconds.reserve(1 << 20);

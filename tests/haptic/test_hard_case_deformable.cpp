@@ -114,7 +114,7 @@ TEST(HardCases, DeformablePointshellPushedHardAndReleased) {
   for (int i = 0; i < 1500; ++i) {
     const Sample& s = harness.step();
     energy.push_back(b.energy());
-    if (free_from == 0 && s.record.contact_statistics.points_in_contact == 0 && i > 20) {
+    if (free_from == 0 && s.record.contact.statistics.points_in_contact == 0 && i > 20) {
       free_from = energy.size() - 1;
     }
   }
@@ -179,7 +179,7 @@ TEST(HardCases, DeformableToolAgainstDeformableBeam) {
   harness.run(600);
   const std::vector<Sample>& pushed = harness.trace();
   EXPECT_GT(largest(pushed, 0, pushed.size(),
-                    [](const Sample& s) { return s.record.contact_statistics.points_in_contact; }),
+                    [](const Sample& s) { return s.record.contact.statistics.points_in_contact; }),
             0.0);
   // Both objects took their share: each was bent (or compressed) by the contact, and the tool's
   // field follows its integrator.

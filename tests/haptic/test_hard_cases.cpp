@@ -83,7 +83,7 @@ TEST(HapticHardCases, FastMotionInFreeSpaceSnapsThroughTheSaturatedCouplingWitho
     const CycleRecord& r = trace[i].record;
     const Pose& before = trace[i - 1].record.simulation;
     ASSERT_TRUE(r.device_valid && r.contact_valid && r.coupling_valid) << "cycle " << i;
-    ASSERT_EQ(r.contact_statistics.points_in_contact, 0) << "free space";
+    ASSERT_EQ(r.contact.statistics.points_in_contact, 0) << "free space";
     const Eigen::Vector3d moved = r.simulation.position - before.position;
     const Eigen::Vector3d gap = r.manipulandum.position - before.position;
     widest = std::max(widest, gap.norm());
@@ -513,8 +513,8 @@ TEST(HapticHardCases, HundredsOfContactsKeepTheRenderedStiffnessBelowTheCoupling
 
   // Hundreds of points in contact, the contact stiffness bounded by L k_C every cycle (the
   // floor's grid gradient is the plane's normal to float rounding).
-  EXPECT_GE(gentle_state.record.contact_statistics.points_in_contact, 500);
-  EXPECT_GE(trace.back().record.contact_statistics.points_in_contact, 500);
+  EXPECT_GE(gentle_state.record.contact.statistics.points_in_contact, 500);
+  EXPECT_GE(trace.back().record.contact.statistics.points_in_contact, 500);
   EXPECT_LE(stiffest, scaling_count * point_stiffness * (1.0 + 1e-6));
   // The gentle press rests where the hand's force balances: 0.7 N on the floor.
   EXPECT_NEAR(gentle_state.record.contact.force.z(), gentle, 0.01 * gentle);
@@ -582,7 +582,7 @@ TEST(HapticHardCases, ANaNPoseOrADisconnectMidContactRendersZeroAtOnceAndRecover
       const CycleRecord& r = run.step().record;
       EXPECT_FALSE(r.device_valid) << start << " + " << i;
       EXPECT_FALSE(r.contact_valid) << "no query without a manipulandum";
-      EXPECT_EQ(r.contact_statistics.points_in_contact, 0) << "not the last cycle's contact";
+      EXPECT_EQ(r.contact.statistics.points_in_contact, 0) << "not the last cycle's contact";
       EXPECT_EQ(r.rendered.force, Eigen::Vector3d::Zero()) << start << " + " << i;
       EXPECT_EQ(r.rendered.torque, Eigen::Vector3d::Zero()) << start << " + " << i;
       EXPECT_EQ(r.simulation.position, held.position) << start << " + " << i;

@@ -24,7 +24,7 @@
 namespace khz::haptic {
 namespace {
 
-using contact::ContactResult;
+using contact::ContactWrench;
 constexpr double pi = std::numbers::pi;
 constexpr double unlimited = CouplingOptions::unlimited;
 
@@ -63,7 +63,7 @@ Motion motion(const Pose& before, const Pose& after) {
 
 // The linear system the coupling solves this cycle, for comparisons with LU.
 EquilibriumSystem system_of(const VirtualCoupling& coupling, const Pose& manipulandum,
-                            const ContactResult& contact) {
+                            const ContactWrench& contact) {
   return equilibrium_system(
       coupling_wrench(manipulandum, coupling.simulation_pose(), coupling.options().springs()),
       contact);
@@ -72,7 +72,7 @@ EquilibriumSystem system_of(const VirtualCoupling& coupling, const Pose& manipul
 TEST(VirtualCoupling, FreeSpaceNewtonStepsReachTheManipulandum) {
   VirtualCoupling coupling(newton_options());
   const Pose manipulandum = rotated({0.01, -0.02, 0.005}, 0.5, {1.0, 2.0, -1.0});
-  const ContactResult free_space;
+  const ContactWrench free_space;
   CouplingStep step = coupling.step(manipulandum, free_space);
   ASSERT_TRUE(step.valid);
   EXPECT_EQ(step.degenerate_dimension, 0);
@@ -94,7 +94,7 @@ TEST(VirtualCoupling, StaticDampingMovesAFractionOfTheStep) {
   VirtualCoupling coupling(options);
   const Eigen::Vector3d target(0.02, 0.01, -0.03);
   for (int cycle = 1; cycle <= 10; ++cycle) {
-    const CouplingStep step = coupling.step(translated(target), ContactResult{});
+    const CouplingStep step = coupling.step(translated(target), ContactWrench{});
     const Eigen::Vector3d gap = target - step.simulation.position;
     EXPECT_LE((gap - std::pow(0.5, cycle) * target).norm(), 1e-17) << cycle;
     // Rendered: −k_VC (x_m − x_s) at the new pose.
@@ -111,7 +111,7 @@ TEST(VirtualCoupling, SpeedLimitsClampThePerCycleMotion) {
   VirtualCoupling coupling(options);
   const Eigen::Vector3d axis = Eigen::Vector3d(0.0, 1.0, 1.0).normalized();
   const Pose manipulandum = rotated({0.06, 0.0, -0.08}, 1.0, axis);
-  const CouplingStep step = coupling.step(manipulandum, ContactResult{});
+  const CouplingStep step = coupling.step(manipulandum, ContactWrench{});
   EXPECT_TRUE(step.speed_limited);
   EXPECT_TRUE(step.angular_speed_limited);
   const Motion moved = motion(Pose{}, step.simulation);
@@ -125,7 +125,7 @@ TEST(VirtualCoupling, SpeedLimitsClampThePerCycleMotion) {
   // Close by, nothing is limited.
   const Pose near{step.simulation.position + Eigen::Vector3d(1e-4, 0.0, 0.0),
                   step.simulation.orientation};
-  const CouplingStep small = coupling.step(near, ContactResult{});
+  const CouplingStep small = coupling.step(near, ContactWrench{});
   EXPECT_FALSE(small.speed_limited);
   EXPECT_FALSE(small.angular_speed_limited);
   EXPECT_LE((small.simulation.position - near.position).norm(), 1e-17);
@@ -146,7 +146,7 @@ TEST(VirtualCoupling, SaturationAndRenderingClampsKeepTheDirection) {
   EXPECT_DOUBLE_EQ(options.springs().saturation_torque, 0.2);
   const Eigen::Vector3d axis(0.0, 0.0, 1.0);
   const Pose manipulandum = rotated({0.06, 0.0, -0.08}, 1.0, axis);
-  const CouplingStep step = coupling.step(manipulandum, ContactResult{});
+  const CouplingStep step = coupling.step(manipulandum, ContactWrench{});
   ASSERT_TRUE(step.speed_limited);  // the simulation object lags 0.0995 m: k_VC r ≈ 50 N
   EXPECT_TRUE(step.coupling_saturated);
   const Eigen::Vector3d stretch = step.simulation.position - manipulandum.position;
@@ -165,7 +165,7 @@ TEST(VirtualCoupling, SaturationAndRenderingClampsKeepTheDirection) {
 
   // Below the device's limit the rendered force is exactly −k_VC (x_m − x_s).
   const Pose near = translated(step.simulation.position + Eigen::Vector3d(0.0, 1e-4, 0.0));
-  const CouplingStep small = coupling.step(near, ContactResult{});
+  const CouplingStep small = coupling.step(near, ContactWrench{});
   EXPECT_FALSE(small.force_clamped);
   EXPECT_EQ(small.rendered.force,
             -coupling_wrench(near, small.simulation, options.springs()).linear_force);
@@ -174,7 +174,7 @@ TEST(VirtualCoupling, SaturationAndRenderingClampsKeepTheDirection) {
 // A contact whose gradients leave some directions unresisted, saturated coupling, and the
 // motion §4.10 prescribes: snap to the manipulandum in those directions, Newton in the others.
 struct DegenerateScene {
-  ContactResult contact;
+  ContactWrench contact;
   CouplingOptions options;
   Pose manipulandum;
 };
@@ -313,8 +313,8 @@ TEST(VirtualCoupling, FastFreeMotionSnapsToTheManipulandum) {
   options.saturation_force = 5.0;
   VirtualCoupling coupling(options);
   const Pose manipulandum = translated({0.3, -0.4, 1.2});
-  const EquilibriumSystem system = system_of(coupling, manipulandum, ContactResult{});
-  const CouplingStep step = coupling.step(manipulandum, ContactResult{});
+  const EquilibriumSystem system = system_of(coupling, manipulandum, ContactWrench{});
+  const CouplingStep step = coupling.step(manipulandum, ContactWrench{});
   EXPECT_EQ(step.degenerate_dimension, 1);
   EXPECT_LE((step.simulation.position - manipulandum.position).norm(), 1e-15);
   EXPECT_GT(solve_equilibrium_lu(system.jacobian, -system.net_wrench).norm(), 1e6);
@@ -325,7 +325,7 @@ TEST(VirtualCoupling, FastFreeMotionSnapsToTheManipulandum) {
 TEST(VirtualCoupling, HalfTurnSnapsAboutItsAxis) {
   VirtualCoupling coupling(newton_options());
   const Pose manipulandum{{0.0, 0.0, 0.0}, Eigen::Quaterniond(0.0, 0.0, 0.0, 1.0)};
-  const CouplingStep step = coupling.step(manipulandum, ContactResult{});
+  const CouplingStep step = coupling.step(manipulandum, ContactWrench{});
   EXPECT_EQ(step.degenerate_dimension, 1);
   EXPECT_LE(angle_between(step.simulation.orientation, manipulandum.orientation), 1e-15);
 }
@@ -339,14 +339,14 @@ TEST(VirtualCoupling, TurnsTheShortWayBeyondAHalfTurn) {
   const Eigen::Vector3d axis = Eigen::Vector3d(2.0, 1.0, -1.0).normalized();
   const Pose manipulandum = rotated({0.0, 0.0, 0.0}, 1.5 * pi, axis);
   ASSERT_LT(manipulandum.orientation.w(), 0.0);
-  CouplingStep step = coupling.step(manipulandum, ContactResult{});
+  CouplingStep step = coupling.step(manipulandum, ContactWrench{});
   EXPECT_LT(motion(Pose{}, step.simulation).rotation.dot(axis), 0.0);
   double angle = pi / 2.0;
   for (int cycle = 0; cycle < 60 && angle > 1e-15; ++cycle) {
     const double previous = angle;
     angle = angle_between(step.simulation.orientation, manipulandum.orientation);
     EXPECT_LT(angle, previous) << cycle;
-    step = coupling.step(manipulandum, ContactResult{});
+    step = coupling.step(manipulandum, ContactWrench{});
   }
   EXPECT_LE(angle, 1e-15);
 }
@@ -377,7 +377,7 @@ TEST(StiffnessBound, CouplingRendersAtMostTheBound) {
                                      Eigen::Vector3d(0.3, 0.0, 1.0).normalized(),
                                      Eigen::Vector3d(-0.2, 0.5, 1.0).normalized()};
   const double stiffnesses[] = {1000.0, 2000.0, 500.0};
-  ContactResult contact;
+  ContactWrench contact;
   for (int i = 0; i < 3; ++i) {
     contact.force_by_translation -= stiffnesses[i] * normals[i] * normals[i].transpose();
   }
@@ -403,7 +403,7 @@ TEST(StiffnessBound, CouplingRendersAtMostTheBound) {
   EXPECT_NEAR(spectrum.minCoeff(), -bound, 1e-10 * bound);
 
   // ℓ points in parallel (eq. 4.30): along the normal, exactly 1/(1/(ℓ k_C) + 1/k_VC).
-  ContactResult plane;
+  ContactWrench plane;
   plane.force_by_translation = -(10.0 * 1000.0) * normals[1] * normals[1].transpose();
   VirtualCoupling coupling(options);
   const CouplingStep step = coupling.step(translated(delta * normals[1]), plane);
@@ -419,26 +419,26 @@ TEST(VirtualCoupling, NonFiniteInputRendersNothing) {
   options.static_damping = 0.5;
   VirtualCoupling coupling(options);
   const Pose good = rotated({0.01, 0.0, 0.0}, 0.2, {0.0, 1.0, 0.0});
-  ContactResult contact;
+  ContactWrench contact;
   contact.force_by_translation = -1000.0 * Eigen::Matrix3d::Identity();
   coupling.step(good, contact);
   const Pose before = coupling.simulation_pose();
 
-  std::vector<std::pair<const char*, std::function<void(Pose&, ContactResult&)>>> corruptions = {
-      {"position", [&](Pose& p, ContactResult&) { p.position.y() = nan; }},
-      {"orientation", [&](Pose& p, ContactResult&) { p.orientation.x() = unlimited; }},
-      {"zero quaternion", [&](Pose& p, ContactResult&) { p.orientation.coeffs().setZero(); }},
-      {"huge quaternion", [&](Pose& p, ContactResult&) { p.orientation.coeffs().fill(1e300); }},
-      {"force", [&](Pose&, ContactResult& c) { c.force.x() = nan; }},
-      {"torque", [&](Pose&, ContactResult& c) { c.torque.z() = -unlimited; }},
-      {"∂F/∂x", [&](Pose&, ContactResult& c) { c.force_by_translation(1, 2) = nan; }},
-      {"∂F/∂ω", [&](Pose&, ContactResult& c) { c.force_by_rotation(0, 0) = nan; }},
-      {"∂T/∂x", [&](Pose&, ContactResult& c) { c.torque_by_translation(2, 1) = unlimited; }},
-      {"∂T/∂ω", [&](Pose&, ContactResult& c) { c.torque_by_rotation(1, 1) = nan; }},
+  std::vector<std::pair<const char*, std::function<void(Pose&, ContactWrench&)>>> corruptions = {
+      {"position", [&](Pose& p, ContactWrench&) { p.position.y() = nan; }},
+      {"orientation", [&](Pose& p, ContactWrench&) { p.orientation.x() = unlimited; }},
+      {"zero quaternion", [&](Pose& p, ContactWrench&) { p.orientation.coeffs().setZero(); }},
+      {"huge quaternion", [&](Pose& p, ContactWrench&) { p.orientation.coeffs().fill(1e300); }},
+      {"force", [&](Pose&, ContactWrench& c) { c.force.x() = nan; }},
+      {"torque", [&](Pose&, ContactWrench& c) { c.torque.z() = -unlimited; }},
+      {"∂F/∂x", [&](Pose&, ContactWrench& c) { c.force_by_translation(1, 2) = nan; }},
+      {"∂F/∂ω", [&](Pose&, ContactWrench& c) { c.force_by_rotation(0, 0) = nan; }},
+      {"∂T/∂x", [&](Pose&, ContactWrench& c) { c.torque_by_translation(2, 1) = unlimited; }},
+      {"∂T/∂ω", [&](Pose&, ContactWrench& c) { c.torque_by_rotation(1, 1) = nan; }},
   };
   for (const auto& [name, corrupt] : corruptions) {
     Pose manipulandum = good;
-    ContactResult bad = contact;
+    ContactWrench bad = contact;
     corrupt(manipulandum, bad);
     const CouplingStep step = coupling.step(manipulandum, bad);
     EXPECT_FALSE(step.valid) << name;
@@ -475,7 +475,7 @@ TEST(VirtualCoupling, StepDoesNotAllocate) {
   options.max_rendered_force = 3.0;
   options.max_rendered_torque = 0.1;
   VirtualCoupling coupling(options);
-  ContactResult contact;
+  ContactWrench contact;
   contact.force_by_translation.diagonal() << 0.0, -2e4, -2e4;
   contact.torque_by_rotation = -50.0 * Eigen::Matrix3d::Identity();
   contact.force = {0.0, 2.0, 0.0};

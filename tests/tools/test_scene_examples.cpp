@@ -141,7 +141,7 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
   run_options.frame_every = 1;
   run_options.on_frame = [&](int, run::SceneRuntime& r) {
     states.push_back(run::record_state(r));
-    if (!contact_frame && r.cycle().record().contact_statistics.points_in_contact > 0) {
+    if (!contact_frame && r.cycle().record().contact.statistics.points_in_contact > 0) {
       run::FrameSummary summary;
       renderer.render(run::capture_frame(r), &summary);
       contact_frame = summary;

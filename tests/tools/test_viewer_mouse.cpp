@@ -212,7 +212,7 @@ TEST(MouseDevice, DrivesASceneRuntimeIntoContact) {
   runtime.device().close();
   EXPECT_TRUE(last.device_valid && last.contact_valid && last.coupling_valid);
   EXPECT_LT((last.manipulandum.position - pressed).norm(), 1e-15);
-  EXPECT_GT(last.contact_statistics.points_in_contact, 0);
+  EXPECT_GT(last.contact.statistics.points_in_contact, 0);
   EXPECT_TRUE(last.contact.force.allFinite());
   EXPECT_GT(last.contact.force.y(), 0.0);          // pushed up, out of the wall
   EXPECT_LT(last.simulation.position.y(), 0.071);  // held near the face by the contact

@@ -158,7 +158,7 @@ int view(const ViewerRequest& request) {
       window.set_title(title(
           name,
           static_cast<double>(statistics.cycles - titled_cycles) / seconds_between(titled, now),
-          statistics.mean_work, snapshots.front().record.contact_statistics.points_in_contact));
+          statistics.mean_work, snapshots.front().record.contact.statistics.points_in_contact));
       titled = now;
       titled_cycles = statistics.cycles;
     }

@@ -7,7 +7,7 @@
 namespace khz::haptic {
 
 EquilibriumSystem equilibrium_system(const CouplingWrench& coupling,
-                                     const contact::ContactResult& contact) noexcept {
+                                     const contact::ContactWrench& contact) noexcept {
   EquilibriumSystem system;
   system.jacobian.topLeftCorner<3, 3>() =
       coupling.force_by_translation + contact.force_by_translation;

@@ -14,7 +14,7 @@ bool usable(const Pose& pose) noexcept {
          std::isfinite(norm2);
 }
 
-bool finite(const contact::ContactResult& contact) noexcept {
+bool finite(const contact::ContactWrench& contact) noexcept {
   return contact.force.allFinite() && contact.torque.allFinite() &&
          contact.force_by_translation.allFinite() && contact.force_by_rotation.allFinite() &&
          contact.torque_by_translation.allFinite() && contact.torque_by_rotation.allFinite();
@@ -49,7 +49,7 @@ bool VirtualCoupling::reset(const Pose& simulation) noexcept {
 }
 
 CouplingStep VirtualCoupling::step(const Pose& manipulandum,
-                                   const contact::ContactResult& contact) noexcept {
+                                   const contact::ContactWrench& contact) noexcept {
   CouplingStep result;
   result.simulation = m_simulation;
   if (!usable(manipulandum) || !finite(contact)) return result;

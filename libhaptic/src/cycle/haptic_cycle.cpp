@@ -11,15 +11,13 @@ void HapticCycle::step(double now) noexcept {
   r.coupling_valid = false;
   r.integrators_ok = true;
   r.contact = {};  // a cycle that does not query reports no contact, not the last one
-  r.contact_statistics = {};
   r.degenerate_dimension = 0;
   Wrench rendered;  // zero unless the whole chain succeeds
   if (r.device_valid) {
     const contact::ContactResult* contact = m_scene.query(m_coupling.simulation_pose());
     r.contact_valid = contact != nullptr;
     if (r.contact_valid) {
-      r.contact = {contact->force, contact->torque};
-      r.contact_statistics = contact->statistics;
+      r.contact = *contact;
       const CouplingStep step = m_coupling.step(m_state.pose, *contact);
       r.coupling_valid = step.valid;
       r.degenerate_dimension = step.degenerate_dimension;

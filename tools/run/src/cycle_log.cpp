@@ -80,7 +80,7 @@ CycleRow CycleRow::from(const haptic::CycleRecord& record, double cycle_us) noex
   row.torque = record.contact.torque;
   row.rendered_force = record.rendered.force;
   row.rendered_torque = record.rendered.torque;
-  const contact::ContactStatistics& s = record.contact_statistics;
+  const contact::ContactStatistics& s = record.contact.statistics;
   row.nodes = s.nodes_traversed;
   row.skipped = s.nodes_skipped;
   row.contacts = s.points_in_contact;

@@ -36,16 +36,6 @@ std::unique_ptr<contact::ContactWorkspace> make_workspace(const ContactBody& poi
       *std::get<const contact::PointTree*>(pointshell.tree), options, r_field);
 }
 
-void add_statistics(contact::ContactStatistics& sum, const contact::ContactStatistics& pair) {
-  sum.nodes_traversed += pair.nodes_traversed;
-  sum.nodes_skipped += pair.nodes_skipped;
-  sum.coherence_reset = sum.coherence_reset || pair.coherence_reset;
-  sum.points_in_contact += pair.points_in_contact;
-  sum.deepest_level = std::max(sum.deepest_level, pair.deepest_level);
-  sum.complete = sum.complete && pair.complete;
-  sum.microseconds += pair.microseconds;
-}
-
 }  // namespace
 
 SceneContact::SceneContact(std::vector<ContactBody> bodies, int held,
@@ -126,13 +116,7 @@ const contact::ContactResult* SceneContact::query(const haptic::Pose& grasp) noe
   for (Pair& pair : m_pairs) {
     ok = query_pair(pair, grasp.position) && ok;
     const contact::ContactResult& r = pair.workspace->result();
-    sum.force += r.force;
-    sum.torque += r.torque;
-    sum.force_by_translation += r.force_by_translation;
-    sum.force_by_rotation += r.force_by_rotation;
-    sum.torque_by_translation += r.torque_by_translation;
-    sum.torque_by_rotation += r.torque_by_rotation;
-    add_statistics(sum.statistics, r.statistics);
+    sum.accumulate(r);
     Eigen::VectorXd& on_pointshell = m_reduced_forces[static_cast<std::size_t>(pair.pointshell)];
     if (on_pointshell.size() > 0) on_pointshell += r.pointshell_reduced_force;
     Eigen::VectorXd& on_field = m_reduced_forces[static_cast<std::size_t>(pair.field)];

@@ -2,7 +2,7 @@
 // The linearized static equilibrium of the simulation object (thesis eq. 4.1–4.2) and its solve
 // with degenerate-rank handling (§4.10).
 
-#include <khz/contact/query/contact_result.hpp>
+#include <khz/contact/query/contact_wrench.hpp>
 #include <khz/haptic/coupling/coupling_wrench.hpp>
 #include <khz/haptic/export.hpp>
 
@@ -27,7 +27,7 @@ struct EquilibriumSystem {
 /// and four gradients here; it must have been evaluated at the simulation pose the coupling
 /// wrench was.
 KHZ_HAPTIC_API EquilibriumSystem equilibrium_system(const CouplingWrench& coupling,
-                                                    const contact::ContactResult& contact) noexcept;
+                                                    const contact::ContactWrench& contact) noexcept;
 
 /// What the degenerate-rank solve found.
 struct EquilibriumSolution {

@@ -2,7 +2,7 @@
 // Static virtual coupling (thesis ch. 4): the simulation object that follows the manipulandum
 // under coupling springs and contact, and the wrench rendered to the device.
 
-#include <khz/contact/query/contact_result.hpp>
+#include <khz/contact/query/contact_wrench.hpp>
 #include <khz/haptic/common.hpp>
 #include <khz/haptic/coupling/coupling_options.hpp>
 #include <khz/haptic/export.hpp>
@@ -45,7 +45,7 @@ struct CouplingStep {
 ///   4. send CouplingStep::rendered to the device, and the contact result's reduced forces to
 ///      the deformable objects' integrators.
 ///
-/// The contact gradients are used as ContactResult gives them (thesis §4.2's construction);
+/// The contact gradients are used as ContactWrench gives them (thesis §4.2's construction);
 /// the coupling's own gradients are for world-axis rotations about the grasp point. The
 /// speed limits bound how far the simulation object moves per cycle (max_translation_per_cycle,
 /// max_rotation_per_cycle), which is what a contact query's temporal coherence needs declared.
@@ -70,7 +70,7 @@ class KHZ_HAPTIC_API VirtualCoupling {
   ///        (a nonzero quaternion, normalized here; either hemisphere).
   /// @param contact the contact query at simulation_pose(): force (N) and torque (N·m about the
   ///        grasp point) on the haptic object, ∂F/∂x, ∂F/∂ω, ∂T/∂x, ∂T/∂ω. Only these are read.
-  CouplingStep step(const Pose& manipulandum, const contact::ContactResult& contact) noexcept;
+  CouplingStep step(const Pose& manipulandum, const contact::ContactWrench& contact) noexcept;
 
   /// Puts the simulation object at `simulation` (e.g. the manipulandum's pose when the loop
   /// starts or after workspace indexing). Returns false and changes nothing if the pose is not

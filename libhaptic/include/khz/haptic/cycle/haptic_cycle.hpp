@@ -16,9 +16,10 @@ struct CycleRecord {
   double time = 0.0;  ///< The cycle's start on the loop's clock (s).
   Pose manipulandum;  ///< Virtual-world grasp frame of the device (last good one if invalid).
   Pose simulation;    ///< The simulation object after the coupling step.
-  Wrench contact;     ///< Contact force and torque on the held object at the queried pose.
-  Wrench rendered;    ///< What the safety layer sent (device axes).
-  contact::ContactStatistics contact_statistics;
+  /// Contact on the held object at the queried pose: force, torque about the grasp point,
+  /// their gradients and the query's counters (zero when no query ran).
+  contact::ContactWrench contact;
+  Wrench rendered;               ///< What the safety layer sent (device axes).
   int degenerate_dimension = 0;  ///< §4.10's degenerate subspace this cycle.
   bool device_valid = false;     ///< The device read succeeded.
   bool contact_valid = false;    ///< The contact query accepted its input.
