@@ -1,0 +1,27 @@
+#pragma once
+// A hand: one device holding one body of a World through its own safety layer and coupling.
+
+#include <khz/haptic/coupling/coupling_options.hpp>
+#include <khz/haptic/device/safe_device.hpp>
+
+#include <Eigen/Core>
+
+namespace khz::haptic {
+
+/// What holds a body: a device behind its safety layer, the grasp point on the body and the
+/// settings of the virtual coupling (thesis ch. 4) between them. Any number of hands may hold
+/// different bodies of one World (two hands: two devices, each feeling what its body touches).
+struct Hand {
+  /// Index of the held body in the World's bodies.
+  int body = 0;
+  /// The grasp point G in the held body's frame (m): the coupling's reference point, about which
+  /// torques are taken. The body's pose is grasp pose · translation(−G) (orientations coincide).
+  Eigen::Vector3d grasp_in_body = Eigen::Vector3d::Zero();
+  /// The device, already wrapped in its safety layer (mapping, limits, watchdog); borrowed: it
+  /// must outlive the World and be opened by its owner before cycles run.
+  SafeDevice* device = nullptr;
+  /// The hand's virtual coupling; it starts with the simulation object at the body's pose.
+  CouplingOptions coupling;
+};
+
+}  // namespace khz::haptic

@@ -1,0 +1,120 @@
+#pragma once
+// The multi-body contact runtime: bodies, the hands that hold some of them, the contact pairs
+// between them, and the haptic cycle of thesis Figure 4.2 run for every hand at once.
+
+#include <khz/contact/query/contact_options.hpp>
+#include <khz/contact/query/contact_result.hpp>
+#include <khz/haptic/coupling/virtual_coupling.hpp>
+#include <khz/haptic/cycle/haptic_cycle.hpp>
+#include <khz/haptic/export.hpp>
+#include <khz/haptic/world/body.hpp>
+#include <khz/haptic/world/hand.hpp>
+
+#include <functional>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace khz::haptic {
+
+/// Whether bodies a and b (indices, a < b) may touch: false leaves the pair out of every query.
+/// Called only while the World is built.
+using PairFilter = std::function<bool(int body_a, int body_b)>;
+
+/// One queried pair: body `pointshell`'s pointshell against body `field`'s distance field, the
+/// wrench taken on `hand`'s body (one of the two). A pair of two held bodies is queried twice,
+/// once for each hand.
+struct WorldPair {
+  int pointshell = 0;  ///< Body index.
+  int field = 0;       ///< Body index.
+  int hand = 0;        ///< The hand whose body the wrench acts on.
+  /// Whether this query's reduced forces step the deformable bodies (false for the second query
+  /// of a pair of held bodies: its contact is the first one's).
+  bool applies_reduced_forces = true;
+};
+
+/// N bodies (rigid or reduced, each with a pointshell and/or a distance field), any number of
+/// hands (each a device, its safety layer and its virtual coupling holding one body), and the
+/// pairs between them. Every cycle:
+///
+///   1. each hand's device is read (SafeDevice::read()) into its manipulandum pose;
+///   2. each held body is placed at its coupling's simulation pose;
+///   3. every pair is queried (one contact::ContactWorkspace each, allocated here), and each
+///      hand's wrench is the sum over its pairs (contact::ContactWrench::accumulate(): every
+///      pair's wrench is about the hand's grasp point and for the motion of its body);
+///   4. each hand's coupling steps under its manipulandum and wrench (§4.1–§4.10);
+///   5. each reduced body is stepped once under the sum of its reduced contact forces over all
+///      its pairs (§3.6.1), and a deformed field is then update()d to its new q (§3.12);
+///   6. each device is written the coupling's rendered wrench (zero when anything in its chain
+///      failed), and its watchdog closes the cycle.
+///
+/// Pairs: for every held body h and every other body b, one pair when one's pointshell can meet
+/// the other's field (h touches with its ContactOptions::haptic_object role when both ways are
+/// possible), unless the filter says no. A pair of two held bodies is queried once for each hand
+/// (each hand feels its own body's wrench, with its own gradients); bodies that no hand holds do
+/// not touch one another (they do not move). A hand whose device read fails renders zero and its
+/// body stays where it was, still touching the others; a query that refuses its input (e.g. a
+/// non-finite pose) counts for nothing that cycle and makes its hand render zero.
+///
+/// cycle() allocates nothing, takes no lock and throws nothing; the constructor and the setters
+/// may. Not copyable or movable (the parts refer to one another); one thread runs the cycles.
+class KHZ_HAPTIC_API World {
+ public:
+  /// @param bodies the bodies (what they point to is borrowed, see Body).
+  /// @param hands at most one per body, each with a device.
+  /// @param options the contact settings of every pair (haptic_object only says which role a
+  ///        held body prefers, see above).
+  /// @param filter which body pairs may touch (all when empty).
+  /// @throws Error naming the body or hand: a hand's body index out of range or held twice, a
+  ///         hand without a device, a held body with neither role, a reduced body without an
+  ///         integrator of its tree's or field's r, invalid coupling or contact options, or no
+  ///         pair at all.
+  World(std::vector<Body> bodies, std::vector<Hand> hands, const contact::ContactOptions& options,
+        PairFilter filter = {});
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  /// One cycle of every hand starting at `now` with deadline `deadline` (s, the loop's clock);
+  /// `clock` is read again at the end for each device's watchdog (a callable returning seconds
+  /// on the same clock). Returns one record per hand, in the hands' order.
+  template <typename Clock>
+  std::span<const CycleRecord> cycle(double now, double deadline, Clock&& clock) noexcept {
+    begin_cycle(deadline);
+    step(now);
+    end_cycle(clock());
+    return records();
+  }
+
+  /// The last cycle's records, one per hand.
+  std::span<const CycleRecord> records() const noexcept;
+  /// The bodies, each held one at its last placement.
+  std::span<const Body> bodies() const noexcept;
+  int hand_count() const noexcept;
+  const Hand& hand(int index) const noexcept;
+  /// The coupling of hand `index` (its simulation pose is where its body is queried).
+  VirtualCoupling& coupling(int index) noexcept;
+  const VirtualCoupling& coupling(int index) const noexcept;
+  /// The pairs queried every cycle.
+  std::span<const WorldPair> pairs() const noexcept;
+  /// The last query of pair `index`.
+  const contact::ContactResult& pair_result(int index) const noexcept;
+  /// The last cycle's reduced contact force on body `index` (r entries; empty for a rigid body).
+  const Eigen::VectorXd& reduced_force(int index) const noexcept;
+
+  /// Forgets every pair's temporal coherence and level of detail (after a jump of a body).
+  void reset_contact() noexcept;
+  /// Replaces every pair's contact options (and resets them). The pairs stay as built.
+  /// @throws Error as contact::ContactWorkspace.
+  void set_contact_options(const contact::ContactOptions& options);
+
+ private:
+  void begin_cycle(double deadline) noexcept;
+  void step(double now) noexcept;
+  void end_cycle(double now) noexcept;
+
+  struct Data;
+  std::unique_ptr<Data> m_data;
+};
+
+}  // namespace khz::haptic

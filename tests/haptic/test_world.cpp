@@ -1,0 +1,234 @@
+// World: the multi-body runtime. One hand and one pair is the single-object cycle
+// (HapticCycle + PointshellFieldScene); two hands holding two bodies feel one contact as action
+// and reaction; a cycle allocates nothing; bad set-ups are refused naming the body or hand.
+#include "hard_case_fixtures.hpp"
+
+#include <khz/contact/field/implicit_shapes.hpp>
+#include <khz/haptic/cycle/contact_scene.hpp>
+#include <khz/haptic/cycle/haptic_cycle.hpp>
+#include <khz/haptic/device/simulated_operator.hpp>
+#include <khz/haptic/world/world.hpp>
+#include <khz/test/allocation_probe.hpp>
+#include <khz/test/fixtures.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+namespace khz::haptic {
+namespace {
+
+using hard_cases::at;
+using test::throws_with_message;
+
+constexpr double ball_radius = 0.05;  // m
+
+/// A 5 cm ball sampled by 5,440 near-uniform points in 4 levels, inward normals.
+const contact::PointTree& ball() {
+  static const contact::PointTree tree =
+      hard_cases::nested_tree(hard_cases::sphere_pointshell(ball_radius, 85 * 64), 85);
+  return tree;
+}
+
+/// A simulated hand whose anchor moves from `from` to `to` in 0.5 s and holds, behind its
+/// safety layer, opened.
+struct ScriptedHand {
+  ScriptedHand(const Eigen::Vector3d& from, const Eigen::Vector3d& to)
+      : device(keyframe_target({{0.0, at(from)}, {0.5, at(to)}}), SimulatedOperatorOptions{}),
+        safe(device) {
+    safe.open();
+  }
+  SimulatedOperator device;
+  SafeDevice safe;
+};
+
+CouplingOptions coupling_options() {
+  CouplingOptions options;
+  options.stiffness = 500.0;
+  options.max_rendered_force = SimulatedOperatorOptions{}.capabilities.max_force;
+  return options;
+}
+
+contact::ContactOptions contact_options() {
+  contact::ContactOptions options;
+  options.haptic_object = contact::HapticObject::pointshell;
+  options.stiffness = 2000.0;
+  return options;
+}
+
+const contact::ImplicitShape& floor_shape() {
+  static const contact::ImplicitShape floor = contact::HalfSpace(Eigen::Vector3d::UnitZ(), 0.0);
+  return floor;
+}
+
+/// Bodies 0: the ball (pointshell), held; 1: the floor (field), fixed, at the ball's start.
+std::vector<Body> ball_and_floor(const Eigen::Vector3d& ball_start) {
+  Body held;
+  held.name = "ball";
+  held.pose.translation() = ball_start;
+  held.pointshell = &ball();
+  Body floor;
+  floor.name = "floor";
+  floor.field = &floor_shape();
+  return {held, floor};
+}
+
+// The one-hand, one-pair world is the single-object cycle: pressing a ball onto a floor, every
+// cycle's record agrees with HapticCycle + PointshellFieldScene's to round-off (the two compile
+// the query in different places).
+TEST(World, OneHandAndOnePairIsTheSingleObjectCycle) {
+  const Eigen::Vector3d start(0.0, 0.0, ball_radius + 0.05), end(0.0, 0.0, ball_radius - 0.03);
+  ScriptedHand reference_hand(start, end), world_hand(start, end);
+  PointshellFieldScene scene(ball(), floor_shape(), contact_options(), Eigen::Vector3d::Zero(),
+                             Eigen::Isometry3d::Identity());
+  VirtualCoupling coupling(coupling_options(), at(start));
+  HapticCycle cycle(reference_hand.safe, coupling, scene);
+
+  Hand hand;
+  hand.body = 0;
+  hand.device = &world_hand.safe;
+  hand.coupling = coupling_options();
+  World world(ball_and_floor(start), {hand}, contact_options());
+  ASSERT_EQ(world.pairs().size(), 1u);
+  EXPECT_EQ(world.pairs()[0].pointshell, 0);
+  EXPECT_EQ(world.pairs()[0].field, 1);
+
+  double largest_force = 0.0, largest_difference = 0.0;
+  for (int i = 0; i < 1500; ++i) {
+    const double now = i * 1e-3;
+    const CycleRecord& expected = cycle.run(now, now + 1e-3, [&] { return now + 1e-4; });
+    const std::span<const CycleRecord> records =
+        world.cycle(now, now + 1e-3, [&] { return now + 1e-4; });
+    ASSERT_EQ(records.size(), 1u);
+    const CycleRecord& r = records[0];
+    ASSERT_TRUE(r.device_valid && r.contact_valid && r.coupling_valid && r.integrators_ok);
+    EXPECT_EQ(r.contact.statistics.points_in_contact, expected.contact.statistics.points_in_contact)
+        << "cycle " << i;
+    largest_force = std::max(largest_force, expected.contact.force.norm());
+    largest_difference =
+        std::max({largest_difference, (r.contact.force - expected.contact.force).norm(),
+                  (r.rendered.force - expected.rendered.force).norm(),
+                  500.0 * (r.simulation.position - expected.simulation.position).norm()});
+  }
+  EXPECT_GT(largest_force, 1.0) << "the ball reached the floor";
+  EXPECT_LE(largest_difference, 1e-9 * largest_force);
+  std::printf("largest difference from the single-object cycle: %.3g N (peak force %.3g N)\n",
+              largest_difference, largest_force);
+}
+
+// Two hands: one holds the ball, the other a box it presses on. Each feels the one contact,
+// as action and reaction: opposite forces, and torques that differ by the lever between the two
+// grasp points; a fixed floor under the box is touched by neither (the box has no pointshell).
+TEST(World, TwoHandsHoldingTwoBodiesFeelActionAndReaction) {
+  const contact::ImplicitShape box =
+      contact::Box(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.1, 0.1, 0.02));
+  // The ball comes down on the box's top face, off its centre so there is a torque.
+  ScriptedHand ball_hand({0.03, 0.0, 0.02 + ball_radius + 0.03}, {0.03, 0.0, 0.02 + 0.03});
+  ScriptedHand box_hand({0.0, 0.0, 0.0}, {0.0, 0.0, 0.0});
+  std::vector<Body> bodies = ball_and_floor({0.03, 0.0, 0.02 + ball_radius + 0.03});
+  bodies[1].pose.translation() = Eigen::Vector3d(0.0, 0.0, -1.0);  // far below: never touched
+  Body held_box;
+  held_box.name = "box";
+  held_box.field = &box;
+  bodies.push_back(held_box);
+  Hand ball_grip, box_grip;
+  ball_grip.body = 0;
+  ball_grip.device = &ball_hand.safe;
+  ball_grip.coupling = coupling_options();
+  box_grip.body = 2;
+  box_grip.device = &box_hand.safe;
+  box_grip.coupling = coupling_options();
+  World world(std::move(bodies), {ball_grip, box_grip}, contact_options());
+  // Ball–floor for the ball's hand; ball–box once for each hand.
+  ASSERT_EQ(world.pairs().size(), 3u);
+
+  int both_in_contact = 0;
+  for (int i = 0; i < 1200; ++i) {
+    const double now = i * 1e-3;
+    // The grasp points the cycle queries at: each coupling's simulation pose before it steps.
+    const Eigen::Vector3d ball_grasp = world.coupling(0).simulation_pose().position;
+    const Eigen::Vector3d box_grasp = world.coupling(1).simulation_pose().position;
+    const std::span<const CycleRecord> r = world.cycle(now, now + 1e-3, [&] { return now; });
+    ASSERT_EQ(r.size(), 2u);
+    for (const CycleRecord& record : r) {
+      ASSERT_TRUE(record.device_valid && record.contact_valid && record.coupling_valid);
+      ASSERT_TRUE(record.contact.force.allFinite() && record.rendered.force.allFinite());
+    }
+    if (r[0].contact.statistics.points_in_contact == 0) continue;
+    ++both_in_contact;
+    EXPECT_EQ(r[1].contact.statistics.points_in_contact, r[0].contact.statistics.points_in_contact);
+    const Eigen::Vector3d& f = r[0].contact.force;
+    EXPECT_LE((r[1].contact.force + f).norm(), 1e-12 * f.norm()) << "cycle " << i;
+    // T_box = −T_ball − (g_ball − g_box) × F_ball, each about its own grasp point.
+    const Eigen::Vector3d reaction = -r[0].contact.torque - (ball_grasp - box_grasp).cross(f);
+    EXPECT_LE((r[1].contact.torque - reaction).norm(), 1e-12 * f.norm() + 1e-12 * reaction.norm())
+        << "cycle " << i;
+  }
+  EXPECT_GT(both_in_contact, 500);
+  const CycleRecord& ball_record = world.records()[0];
+  const CycleRecord& box_record = world.records()[1];
+  EXPECT_GT(ball_record.contact.force.z(), 1.0) << "the box holds the ball up";
+  EXPECT_LT(box_record.contact.force.z(), -1.0) << "the ball pushes the box down";
+  EXPECT_GT(ball_record.rendered.force.z(), 0.5) << "the ball's hand feels it";
+  EXPECT_LT(box_record.rendered.force.z(), -0.5) << "the box's hand feels it";
+  EXPECT_LE(ball_record.rendered.force.norm(), coupling_options().max_rendered_force);
+  EXPECT_EQ(world.pair_result(0).statistics.points_in_contact, 0) << "the floor is far below";
+}
+
+TEST(World, ACycleAllocatesNothing) {
+  const Eigen::Vector3d start(0.0, 0.0, ball_radius + 0.01), end(0.0, 0.0, ball_radius - 0.03);
+  ScriptedHand scripted(start, end);
+  Hand hand;
+  hand.device = &scripted.safe;
+  hand.coupling = coupling_options();
+  World world(ball_and_floor(start), {hand}, contact_options());
+  for (int i = 0; i < 300; ++i) world.cycle(i * 1e-3, (i + 1) * 1e-3, [&] { return i * 1e-3; });
+  ASSERT_GT(world.records()[0].contact.statistics.points_in_contact, 0);
+  test::allocation_count = 0;
+  for (int i = 300; i < 400; ++i) world.cycle(i * 1e-3, (i + 1) * 1e-3, [&] { return i * 1e-3; });
+  EXPECT_EQ(test::allocation_count, 0u);
+  EXPECT_GT(world.records()[0].contact.statistics.points_in_contact, 0);
+}
+
+TEST(World, APairFilterLeavesPairsOut) {
+  ScriptedHand scripted({0, 0, 1}, {0, 0, 1});
+  Hand hand;
+  hand.device = &scripted.safe;
+  std::vector<Body> bodies = ball_and_floor({0, 0, 1});
+  bodies.push_back(bodies[1]);  // a second floor
+  bodies[2].name = "second floor";
+  World world(bodies, {hand}, contact_options(), [](int a, int b) { return !(a == 0 && b == 2); });
+  ASSERT_EQ(world.pairs().size(), 1u);
+  EXPECT_EQ(world.pairs()[0].field, 1);
+  EXPECT_TRUE(throws_with_message<Error>(
+      [&] { World none(bodies, {hand}, contact_options(), [](int, int) { return false; }); },
+      "no held body can touch another body"));
+}
+
+TEST(World, RefusesBadSetUpsNamingTheBodyOrHand) {
+  ScriptedHand scripted({0, 0, 1}, {0, 0, 1});
+  const std::vector<Body> bodies = ball_and_floor({0, 0, 1});
+  Hand hand;
+  hand.device = &scripted.safe;
+  const auto refuses = [&](std::vector<Body> b, std::vector<Hand> h, const char* message) {
+    return throws_with_message<Error>(
+        [&] { World world(std::move(b), std::move(h), contact_options()); }, message);
+  };
+  Hand outside = hand;
+  outside.body = 2;
+  EXPECT_TRUE(refuses(bodies, {outside}, "hand 0 holds body 2, but there are 2 bodies"));
+  EXPECT_TRUE(refuses(bodies, {hand, hand}, "hand 1 holds body 'ball', which hand 0 holds"));
+  Hand deviceless = hand;
+  deviceless.device = nullptr;
+  EXPECT_TRUE(refuses(bodies, {deviceless}, "hand 0 has no device"));
+  std::vector<Body> bare = bodies;
+  bare[0].pointshell = {};
+  EXPECT_TRUE(refuses(bare, {hand}, "holds body 'ball', which has neither a pointshell nor"));
+  Hand bad_coupling = hand;
+  bad_coupling.coupling.stiffness = -1.0;
+  EXPECT_TRUE(refuses(bodies, {bad_coupling}, "stiffness"));
+}
+
+}  // namespace
+}  // namespace khz::haptic
