@@ -20,6 +20,13 @@ function(khz_add_library name)
                VERSION ${PROJECT_VERSION}
                SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR}
                POSITION_INDEPENDENT_CODE ON)
+  # Installed, each library finds the Kilohertz libraries it needs beside itself, wherever the
+  # prefix is (a run path relative to the library, $ORIGIN): a program that links one component
+  # starts without LD_LIBRARY_PATH, since a program's own run path does not serve its libraries'
+  # dependencies.
+  if(NOT APPLE)
+    set_target_properties(${target} PROPERTIES INSTALL_RPATH "$ORIGIN")
+  endif()
   target_compile_features(${target} PUBLIC cxx_std_20)
   target_include_directories(
     ${target}
