@@ -38,20 +38,12 @@ struct ReducedCentralDifferences::Data : detail::StepWorkspace {
   Eigen::VectorXd predicted_velocity;  // q̇_n + ½Δt q̈_n
 };
 
-namespace {
-
-const ReducedCentralDifferencesOptions& validated(const ReducedCentralDifferencesOptions& options) {
-  options.validate();
-  return options;
-}
-
-}  // namespace
-
 ReducedCentralDifferences::ReducedCentralDifferences(
     ReducedForceModel& forces, const Eigen::MatrixXd& mass,
     const ReducedCentralDifferencesOptions& options)
-    : ReducedIntegrator(forces, mass, "ReducedCentralDifferences", validated(options).time_step,
-                        options.mass_damping, options.stiffness_damping),
+    : ReducedIntegrator(forces, mass, "ReducedCentralDifferences",
+                        detail::validated(options).time_step, options.mass_damping,
+                        options.stiffness_damping),
       m_data(std::make_unique<Data>(shared_state(), options)) {}
 ReducedCentralDifferences::~ReducedCentralDifferences() = default;
 ReducedCentralDifferences::ReducedCentralDifferences(ReducedCentralDifferences&&) noexcept =

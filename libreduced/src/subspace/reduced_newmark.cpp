@@ -80,19 +80,11 @@ void ReducedNewmark::Data::remove_spurious_energy(double scale) noexcept {
   velocity *= kinetic > spurious ? std::sqrt(1.0 - spurious / kinetic) : 0.0;
 }
 
-namespace {
-
-const ReducedNewmarkOptions& validated(const ReducedNewmarkOptions& options) {
-  options.validate();
-  return options;
-}
-
-}  // namespace
-
 ReducedNewmark::ReducedNewmark(ReducedForceModel& forces, const Eigen::MatrixXd& mass,
                                const ReducedNewmarkOptions& options)
-    : ReducedIntegrator(forces, mass, "ReducedNewmark", validated(options).newmark.time_step,
-                        options.newmark.mass_damping, options.newmark.stiffness_damping),
+    : ReducedIntegrator(forces, mass, "ReducedNewmark",
+                        detail::validated(options).newmark.time_step, options.newmark.mass_damping,
+                        options.newmark.stiffness_damping),
       m_data(std::make_unique<Data>(shared_state(), options)) {}
 ReducedNewmark::~ReducedNewmark() = default;
 ReducedNewmark::ReducedNewmark(ReducedNewmark&&) noexcept = default;

@@ -65,6 +65,14 @@ struct ReducedState {
   void assign_mass(const Eigen::MatrixXd& reduced_mass, const std::string& context);
 };
 
+/// `options` after options.validate() (which throws Error naming the bad option): lets a
+/// scheme's constructor check its options before the ReducedIntegrator base is built from them.
+template <typename Options>
+const Options& validated(const Options& options) {
+  options.validate();
+  return options;
+}
+
 /// The scratch every step of either scheme needs, sized once for r coordinates so that a step
 /// allocates nothing: R̃ and K̃ at the new q, the dense system and its solver, and the new q, q̇,
 /// q̈ before they are accepted.
