@@ -2,6 +2,7 @@
 #include <khz/haptic/world/world.hpp>
 
 #include <algorithm>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -43,7 +44,8 @@ struct World::Data {
     Hand hand;
     VirtualCoupling coupling;
     DeviceState device_state;
-    contact::ContactWrench wrench;  // Σ over the hand's pairs
+    Eigen::Vector3d grasp_point = Eigen::Vector3d::Zero();  // where the body was placed (world)
+    contact::ContactWrench wrench;                          // Σ over the hand's pairs
     bool contact_ok = true;
     Wrench rendered;  // zero unless the hand's whole chain succeeds
   };
@@ -83,8 +85,7 @@ bool World::Data::query(int index) noexcept {
   contact::ContactFrames frames;
   frames.pointshell = pointshell.pose;
   frames.field = field.pose;
-  frames.grasp_point =
-      hands[static_cast<std::size_t>(pair.hand)].coupling.simulation_pose().position;
+  frames.grasp_point = hands[static_cast<std::size_t>(pair.hand)].grasp_point;
   contact::ContactWorkspace& workspace = *pair_states[static_cast<std::size_t>(index)].workspace;
   // One variant dispatch per pair and cycle; the query itself is compiled per field type.
   const auto with_field = [&](const auto& run) {
@@ -181,14 +182,13 @@ World::World(std::vector<Body> bodies, std::vector<Hand> hands,
     Pose start;
     start.orientation = Eigen::Quaterniond(body.pose.linear());
     start.position = body.pose * hand.grasp_in_body;
-    d.hands.push_back(
-        Data::HandState{hand, VirtualCoupling(hand.coupling, start), {}, {}, true, {}});
+    d.hands.push_back(Data::HandState{
+        hand, VirtualCoupling(hand.coupling, start), {}, start.position, {}, true, {}});
   }
   d.records.resize(d.hands.size());
 
   // Pairs: every body pair with a holder, in one geometric assignment (pointshell of one against
   // the field of the other), queried once per hand holding one of the two.
-  const bool prefer_pointshell = options.haptic_object == contact::HapticObject::pointshell;
   for (int a = 0; a < body_count; ++a) {
     for (int b = a + 1; b < body_count; ++b) {
       const int holder_a = holder[static_cast<std::size_t>(a)];
@@ -205,6 +205,10 @@ World::World(std::vector<Body> bodies, std::vector<Hand> hands,
       const bool held_as_pointshell = has_pointshell(held) && has_field(against);
       const bool held_as_field = has_field(held) && has_pointshell(against);
       if (!held_as_pointshell && !held_as_field) continue;
+      const std::optional<contact::HapticObject>& role =
+          d.hands[static_cast<std::size_t>(holder[static_cast<std::size_t>(first)])].hand.role;
+      const bool prefer_pointshell =
+          role.value_or(options.haptic_object) == contact::HapticObject::pointshell;
       const bool pointshell_first = held_as_pointshell && (prefer_pointshell || !held_as_field);
       const int pointshell = pointshell_first ? first : other;
       const int field = pointshell_first ? other : first;
@@ -249,28 +253,10 @@ void World::step(double now) noexcept {
     r.time = now;
     r.device_valid = hand.hand.device->read(hand.device_state);
     r.manipulandum = hand.device_state.pose;
-    d.bodies[static_cast<std::size_t>(hand.hand.body)].pose =
-        held_pose(hand.coupling.simulation_pose(), hand.hand.grasp_in_body);
-    hand.wrench = contact::ContactWrench{};
-    hand.contact_ok = true;
+    place_held_body(h, hand.coupling.simulation_pose());
   }
   // 3. Every pair; each hand's wrench and each body's reduced force summed over its pairs.
-  for (Eigen::VectorXd& force : d.reduced_forces) force.setZero();
-  for (std::size_t p = 0; p < d.pairs.size(); ++p) {
-    const WorldPair& pair = d.pairs[p];
-    Data::HandState& hand = d.hands[static_cast<std::size_t>(pair.hand)];
-    if (!d.query(static_cast<int>(p))) {
-      hand.contact_ok = false;
-      continue;
-    }
-    const contact::ContactResult& result = d.pair_states[p].workspace->result();
-    hand.wrench.accumulate(result);
-    if (!pair.applies_reduced_forces) continue;
-    Eigen::VectorXd& on_pointshell = d.reduced_forces[static_cast<std::size_t>(pair.pointshell)];
-    if (on_pointshell.size() > 0) on_pointshell += result.pointshell_reduced_force;
-    Eigen::VectorXd& on_field = d.reduced_forces[static_cast<std::size_t>(pair.field)];
-    if (on_field.size() > 0) on_field += result.field_reduced_force;
-  }
+  query_pairs();
   // 4. Each hand's coupling.
   for (std::size_t h = 0; h < hand_count; ++h) {
     Data::HandState& hand = d.hands[h];
@@ -307,6 +293,46 @@ void World::step(double now) noexcept {
   }
 }
 
+void World::place_held_body(std::size_t hand, const Pose& grasp) noexcept {
+  Data::HandState& held = m_data->hands[hand];
+  held.grasp_point = grasp.position;
+  m_data->bodies[static_cast<std::size_t>(held.hand.body)].pose =
+      held_pose(grasp, held.hand.grasp_in_body);
+}
+
+bool World::query_pairs() noexcept {
+  Data& d = *m_data;
+  for (Data::HandState& hand : d.hands) {
+    hand.wrench = contact::ContactWrench{};
+    hand.contact_ok = true;
+  }
+  for (Eigen::VectorXd& force : d.reduced_forces) force.setZero();
+  bool all_ok = true;
+  for (std::size_t p = 0; p < d.pairs.size(); ++p) {
+    const WorldPair& pair = d.pairs[p];
+    Data::HandState& hand = d.hands[static_cast<std::size_t>(pair.hand)];
+    if (!d.query(static_cast<int>(p))) {
+      hand.contact_ok = false;
+      all_ok = false;
+      continue;
+    }
+    const contact::ContactResult& result = d.pair_states[p].workspace->result();
+    hand.wrench.accumulate(result);
+    if (!pair.applies_reduced_forces) continue;
+    Eigen::VectorXd& on_pointshell = d.reduced_forces[static_cast<std::size_t>(pair.pointshell)];
+    if (on_pointshell.size() > 0) on_pointshell += result.pointshell_reduced_force;
+    Eigen::VectorXd& on_field = d.reduced_forces[static_cast<std::size_t>(pair.field)];
+    if (on_field.size() > 0) on_field += result.field_reduced_force;
+  }
+  return all_ok;
+}
+
+bool World::probe(std::span<const Pose> grasps) noexcept {
+  if (grasps.size() != m_data->hands.size()) return false;
+  for (std::size_t h = 0; h < grasps.size(); ++h) place_held_body(h, grasps[h]);
+  return query_pairs();
+}
+
 std::span<const CycleRecord> World::records() const noexcept { return m_data->records; }
 std::span<const Body> World::bodies() const noexcept { return m_data->bodies; }
 int World::hand_count() const noexcept { return static_cast<int>(m_data->hands.size()); }
@@ -325,6 +351,9 @@ const contact::ContactResult& World::pair_result(int index) const noexcept {
 }
 const Eigen::VectorXd& World::reduced_force(int index) const noexcept {
   return m_data->reduced_forces[static_cast<std::size_t>(index)];
+}
+const contact::ContactWrench& World::wrench(int index) const noexcept {
+  return m_data->hands[static_cast<std::size_t>(index)].wrench;
 }
 
 void World::reset_contact() noexcept {

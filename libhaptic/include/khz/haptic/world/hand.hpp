@@ -1,10 +1,13 @@
 #pragma once
 // A hand: one device holding one body of a World through its own safety layer and coupling.
 
+#include <khz/contact/query/contact_options.hpp>
 #include <khz/haptic/coupling/coupling_options.hpp>
 #include <khz/haptic/device/safe_device.hpp>
 
 #include <Eigen/Core>
+
+#include <optional>
 
 namespace khz::haptic {
 
@@ -22,6 +25,9 @@ struct Hand {
   SafeDevice* device = nullptr;
   /// The hand's virtual coupling; it starts with the simulation object at the body's pose.
   CouplingOptions coupling;
+  /// The role the held body touches with where both would do (it has a pointshell and a field,
+  /// and so has the other body): unset, the World's ContactOptions::haptic_object.
+  std::optional<contact::HapticObject> role;
 };
 
 }  // namespace khz::haptic

@@ -49,12 +49,12 @@ struct WorldPair {
 ///      failed), and its watchdog closes the cycle.
 ///
 /// Pairs: for every held body h and every other body b, one pair when one's pointshell can meet
-/// the other's field (h touches with its ContactOptions::haptic_object role when both ways are
-/// possible), unless the filter says no. A pair of two held bodies is queried once for each hand
-/// (each hand feels its own body's wrench, with its own gradients); bodies that no hand holds do
-/// not touch one another (they do not move). A hand whose device read fails renders zero and its
-/// body stays where it was, still touching the others; a query that refuses its input (e.g. a
-/// non-finite pose) counts for nothing that cycle and makes its hand render zero.
+/// the other's field (h touches with its Hand::role, or else ContactOptions::haptic_object, when
+/// both ways are possible), unless the filter says no. A pair of two held bodies is queried once
+/// for each hand (each hand feels its own body's wrench, with its own gradients); bodies that no
+/// hand holds do not touch one another (they do not move). A hand whose device read fails renders
+/// zero and its body stays where it was, still touching the others; a query that refuses its input
+/// (e.g. a non-finite pose) counts for nothing that cycle and makes its hand render zero.
 ///
 /// cycle() allocates nothing, takes no lock and throws nothing; the constructor and the setters
 /// may. Not copyable or movable (the parts refer to one another); one thread runs the cycles.
@@ -63,7 +63,7 @@ class KHZ_HAPTIC_API World {
   /// @param bodies the bodies (what they point to is borrowed, see Body).
   /// @param hands at most one per body, each with a device.
   /// @param options the contact settings of every pair (haptic_object only says which role a
-  ///        held body prefers, see above).
+  ///        held body prefers when its hand does not say, see above).
   /// @param filter which body pairs may touch (all when empty).
   /// @throws Error naming the body or hand: a hand's body index out of range or held twice, a
   ///         hand without a device, a held body with neither role, a reduced body without an
@@ -101,6 +101,19 @@ class KHZ_HAPTIC_API World {
   const contact::ContactResult& pair_result(int index) const noexcept;
   /// The last cycle's reduced contact force on body `index` (r entries; empty for a rigid body).
   const Eigen::VectorXd& reduced_force(int index) const noexcept;
+  /// Hand `index`'s contact wrench of the last cycle or probe(): the sum over its pairs, about
+  /// its grasp point (force N, torque N·m, gradients per m and per rad).
+  const contact::ContactWrench& wrench(int index) const noexcept;
+
+  /// Contact as it would be with every held body at its hand's grasp frame in `grasps` (one
+  /// pose per hand, world frame) and every other body as it is (reduced ones at their current
+  /// q): places the held bodies there and queries every pair, stepping nothing and touching no
+  /// device or coupling. Read the result with wrench() and pair_result(). For replaying recorded
+  /// states (e.g. the speed-against-error sweep of `khz report`); the pairs' temporal coherence
+  /// and level of detail carry over between probes as between cycles. Allocates nothing.
+  /// @return false if `grasps` has the wrong size or a query refused its input (that hand's
+  ///         wrench then counts only the pairs that answered).
+  bool probe(std::span<const Pose> grasps) noexcept;
 
   /// Forgets every pair's temporal coherence and level of detail (after a jump of a body).
   void reset_contact() noexcept;
@@ -112,6 +125,11 @@ class KHZ_HAPTIC_API World {
   void begin_cycle(double deadline) noexcept;
   void step(double now) noexcept;
   void end_cycle(double now) noexcept;
+  /// Places hand h's body at grasp frame `grasp`.
+  void place_held_body(std::size_t hand, const Pose& grasp) noexcept;
+  /// Queries every pair into its hand's wrench and each body's reduced force; false if any
+  /// query refused (that hand's contact_ok is then false).
+  bool query_pairs() noexcept;
 
   struct Data;
   std::unique_ptr<Data> m_data;
