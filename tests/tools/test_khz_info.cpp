@@ -174,7 +174,7 @@ std::filesystem::path write_scene(const std::string& tool_basis) {
 TEST(KhzInfo, Scene) {
   const KhzRun run = khz_info(write_scene(R"({"method": "modes", "k": 4, "r": 6})"));
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  EXPECT_TRUE(has_line_with(run, {"kind:", "scene file, version 1"}));
+  EXPECT_TRUE(has_line_with(run, {"kind:", "scene file, version 2"}));
   EXPECT_TRUE(has_line_with(run, {"objects:", "2"}));
   EXPECT_TRUE(has_line_with(run, {"object:", "wall"}));
   EXPECT_TRUE(has_line_with(run, {"model:", "rigid"}));

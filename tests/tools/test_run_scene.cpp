@@ -1,13 +1,15 @@
-// Running prepared scenes (khz_run): the multi-pair contact against libhaptic's one-pair scene
-// and against separate queries, the simulated-time runner's reproducibility and its forces, the
-// cycle log's CSV, the point classification of frames against the query's own counts, and the
-// frame pictures' properties.
+// Running prepared scenes (scene::SceneRuntime and khz_run): the World a scene makes against
+// libhaptic's one-pair scene and against separate queries, the simulated-time runner's
+// reproducibility and its forces, the cycle log's CSV, the point classification of frames against
+// the query's own counts, and the frame pictures' properties.
 #include "scene_fixtures.hpp"
 
 #include <khz/contact/query/contact_query.hpp>
 #include <khz/haptic/cycle/contact_scene.hpp>
+#include <khz/haptic/device/null_device.hpp>
 #include <khz/haptic/device/trajectory_file.hpp>
 #include <khz/run/cycle_log.hpp>
+#include <khz/run/device_choice.hpp>
 #include <khz/run/frame_renderer.hpp>
 #include <khz/run/point_states.hpp>
 #include <khz/run/run_realtime.hpp>
@@ -18,6 +20,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -69,19 +72,25 @@ haptic::Pose grasp_at(double x, double y, double z) {
   return pose;
 }
 
+/// The scene's contact with its one hand's object at grasp frame `grasp` (null if refused).
+const contact::ContactWrench* probe(scene::SceneRuntime& runtime, const haptic::Pose& grasp) {
+  const haptic::Pose grasps[] = {grasp};
+  return runtime.world().probe(grasps) ? &runtime.world().wrench(0) : nullptr;
+}
+
 // The reference: libhaptic's PointshellFieldScene for the same pair gives the same result, to
 // round-off (each compiles the query's traversal into its own caller, where the compiler may
 // fuse multiply-adds differently).
-TEST(SceneContact, OnePairEqualsLibhapticsPointshellFieldScene) {
+TEST(SceneRuntime, OnePairEqualsLibhapticsPointshellFieldScene) {
   const scene::PreparedScene prepared = prepare(cube_scene());
-  SceneRuntime runtime(prepared, prepared.description.device);
+  scene::SceneRuntime runtime(prepared);
   const contact::PointTree& tree = *prepared.objects[1].tree;
   const contact::DistanceGrid& field = *prepared.objects[0].field;
   haptic::PointshellFieldScene reference(tree, field, prepared.description.contact,
                                          runtime.grasp_in_body(), Eigen::Isometry3d::Identity());
   for (const double y : {0.075, 0.0695, 0.069, 0.0685, 0.068}) {
     const haptic::Pose grasp = grasp_at(0.003, y, -0.002);
-    const contact::ContactResult* ours = runtime.contact().query(grasp);
+    const contact::ContactWrench* ours = probe(runtime, grasp);
     const contact::ContactResult* theirs = reference.query(grasp);
     ASSERT_NE(ours, nullptr);
     ASSERT_NE(theirs, nullptr);
@@ -95,18 +104,18 @@ TEST(SceneContact, OnePairEqualsLibhapticsPointshellFieldScene) {
     EXPECT_EQ(ours->statistics.points_in_contact, theirs->statistics.points_in_contact);
   }
   // Deep enough that the cube's bottom is in contact: the force pushes the tool up.
-  EXPECT_GT(runtime.contact().query(grasp_at(0, 0.068, 0))->force.y(), 0.0);
+  EXPECT_GT(probe(runtime, grasp_at(0, 0.068, 0))->force.y(), 0.0);
 }
 
 // Two walls: the sum of two separate queries, one per wall at its own pose.
-TEST(SceneContact, TwoPairsAddUp) {
+TEST(SceneRuntime, TwoPairsAddUp) {
   const scene::PreparedScene prepared = prepare(cube_scene(true));
-  SceneRuntime runtime(prepared, prepared.description.device);
-  ASSERT_EQ(runtime.contact().pair_count(), 2);
+  scene::SceneRuntime runtime(prepared);
+  ASSERT_EQ(runtime.world().pairs().size(), 2u);
   const contact::PointTree& tree = *prepared.objects[1].tree;
   // In the corner: 2 mm into the first wall's top and 1 mm into the second wall's side.
   const haptic::Pose grasp = grasp_at(0.036, 0.068, 0.0);
-  const contact::ContactResult* sum = runtime.contact().query(grasp);
+  const contact::ContactWrench* sum = probe(runtime, grasp);
   ASSERT_NE(sum, nullptr);
 
   Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
@@ -152,12 +161,12 @@ TEST(RunScene, TrajectoryPressIsReproducibleAndPushesBack) {
   const scene::PreparedScene prepared = prepare(json);
 
   const auto run_once = [&] {
-    SceneRuntime runtime(prepared, prepared.description.device);
+    scene::SceneRuntime runtime(prepared);
     EXPECT_NEAR(runtime.natural_duration(), 0.301, 1e-12);
     return run_scene(runtime);
   };
-  const std::vector<CycleRow> rows = run_once();
-  const std::vector<CycleRow> again = run_once();
+  const std::vector<CycleRow> rows = run_once().at(0);
+  const std::vector<CycleRow> again = run_once().at(0);
   ASSERT_EQ(rows.size(), 301u);
   ASSERT_EQ(again.size(), rows.size());
   for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -211,11 +220,11 @@ TEST(CycleLog, CsvRoundTripIsExactAndMalformedRowsNameTheirLine) {
 // of them inside the field, and never classifies a point it did not place.
 TEST(PointStates, ContactPointsMatchTheQuery) {
   const scene::PreparedScene prepared = prepare(cube_scene());
-  SceneRuntime runtime(prepared, prepared.description.device);
+  scene::SceneRuntime runtime(prepared);
   for (const double y : {0.0695, 0.068, 0.066}) {
-    const contact::ContactResult* result = runtime.contact().query(grasp_at(0.002, y, 0.001));
+    const contact::ContactWrench* result = probe(runtime, grasp_at(0.002, y, 0.001));
     ASSERT_NE(result, nullptr);
-    const std::vector<ContactBody>& bodies = runtime.contact().bodies();
+    const std::span<const haptic::Body> bodies = runtime.world().bodies();
     const PointPicture picture =
         classify_points(bodies[1], bodies[0], result->statistics.deepest_level);
     EXPECT_EQ(picture.count(PointState::in_contact), result->statistics.points_in_contact)
@@ -244,13 +253,13 @@ TEST(RunScene, ReducedToolDeformsUnderContact) {
   nlohmann::json json = cube_scene(false, model);
   json["device"]["pose"]["position"] = {0.0, 0.066, 0.0};
   const scene::PreparedScene prepared = prepare(json);
-  SceneRuntime runtime(prepared, prepared.description.device);
+  scene::SceneRuntime runtime(prepared);
   // The largest displacement of the bottom face (in contact, free) and of the anchored top.
   double bottom = 0.0, top = 0.0;
   RunOptions options;
   options.duration = 0.1;
   options.frame_every = 1;
-  options.on_frame = [&](int, SceneRuntime& r) {
+  options.on_frame = [&](int, scene::SceneRuntime& r) {
     const reduced::VertexMatrix deformed = r.deformed_vertices(1);
     const reduced::VertexMatrix& rest = r.surface(1).vertices;
     for (Eigen::Index v = 0; v < rest.rows(); ++v) {
@@ -259,7 +268,7 @@ TEST(RunScene, ReducedToolDeformsUnderContact) {
     }
     return true;
   };
-  const std::vector<CycleRow> rows = run_scene(runtime, options);
+  const std::vector<CycleRow> rows = run_scene(runtime, options).at(0);
   ASSERT_EQ(rows.size(), 100u);
   const RunSummary summary = summarize(rows, 1e-3);
   EXPECT_TRUE(summary.finite);
@@ -273,7 +282,7 @@ TEST(RunScene, ReducedToolDeformsUnderContact) {
 // not, the force arrow drawn in its colour.
 TEST(FrameRenderer, ShowsObjectsContactPointsAndForce) {
   const scene::PreparedScene prepared = prepare(cube_scene());
-  SceneRuntime runtime(prepared, prepared.description.device);
+  scene::SceneRuntime runtime(prepared);
   FrameOptions options;
   options.width = 320;
   options.height = 240;
@@ -294,9 +303,9 @@ TEST(FrameRenderer, ShowsObjectsContactPointsAndForce) {
     return n;
   };
 
-  runtime.device().open();
+  runtime.open_devices();
   // The null device holds it 1 mm deep; the arrow is drawn as long as the scene's radius.
-  const haptic::CycleRecord& record = runtime.cycle().run(0.0, 1e-3, [] { return 0.0; });
+  const haptic::CycleRecord& record = runtime.world().cycle(0.0, 1e-3, [] { return 0.0; }).front();
   ASSERT_GT(record.contact.force.norm(), 0.0);
   options.arrow_force = record.contact.force.norm();
   const FrameRenderer renderer(runtime, options);
@@ -307,8 +316,8 @@ TEST(FrameRenderer, ShowsObjectsContactPointsAndForce) {
   EXPECT_GT(count(pressed, options.force_color), 20);
   EXPECT_GT(non_background(pressed), 320 * 240 / 10);
 
-  runtime.coupling().reset(grasp_at(0.0, 0.09, 0.0));
-  runtime.contact().query(grasp_at(0.0, 0.09, 0.0));
+  runtime.world().coupling(0).reset(grasp_at(0.0, 0.09, 0.0));
+  probe(runtime, grasp_at(0.0, 0.09, 0.0));
   FrameSummary apart;
   const render::Image lifted = renderer.render(capture_frame(runtime), &apart);
   EXPECT_EQ(apart.in_contact, 0);
@@ -319,14 +328,16 @@ TEST(FrameRenderer, ShowsObjectsContactPointsAndForce) {
 // period or more apart, the press gives contact, and the device is closed afterwards.
 TEST(RunSceneRealtime, RunsEveryCycleOnTheLoopAndClosesTheDevice) {
   const scene::PreparedScene prepared = prepare(cube_scene());
-  SceneRuntime runtime(prepared, prepared.description.device);
+  scene::SceneRuntime runtime(prepared);
   const RealtimeRun run = run_scene_realtime(runtime, 0.2);
-  ASSERT_EQ(run.rows.size(), 200u);
-  for (std::size_t i = 1; i < run.rows.size(); ++i) {
-    EXPECT_GE(run.rows[i].time - run.rows[i - 1].time, 1e-3 - 1e-12) << "cycle " << i;
+  ASSERT_EQ(run.rows.size(), 1u);
+  const std::vector<CycleRow>& rows = run.rows.front();
+  ASSERT_EQ(rows.size(), 200u);
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    EXPECT_GE(rows[i].time - rows[i - 1].time, 1e-3 - 1e-12) << "cycle " << i;
   }
   EXPECT_GE(run.loop.cycles, 200);
-  const RunSummary summary = summarize(run.rows, 1e-3);
+  const RunSummary summary = summarize(rows, 1e-3);
   EXPECT_TRUE(summary.finite);
   EXPECT_EQ(summary.failed_cycles, 0);
   EXPECT_EQ(summary.cycles_in_contact, 200);  // held 1 mm deep by the null device
@@ -337,7 +348,7 @@ TEST(RunScene, NullDeviceWithoutDurationIsRefusedWithAHint) {
   nlohmann::json json = cube_scene();
   json["loop"].erase("duration");
   const scene::PreparedScene prepared = prepare(json);
-  SceneRuntime runtime(prepared, prepared.description.device);
+  scene::SceneRuntime runtime(prepared);
   try {
     run_scene(runtime);
     FAIL() << "ran without a duration";
@@ -346,19 +357,35 @@ TEST(RunScene, NullDeviceWithoutDurationIsRefusedWithAHint) {
   }
 }
 
-TEST(ChooseDevice, HardwareIsRefusedNamingTheAdapters) {
+TEST(ChooseDevices, HardwareIsRefusedNamingTheAdapters) {
   const scene::PreparedScene prepared = prepare(cube_scene());
   DeviceChoice choice;
   choice.hardware = "openhaptics";
-  const scene::DeviceDescription device = choose_device(prepared.description, choice);
+  const std::vector<scene::DeviceDescription> devices =
+      choose_devices(prepared.description, choice);
   try {
-    SceneRuntime runtime(prepared, device);
+    scene::SceneRuntime runtime(prepared, devices);
     FAIL() << "made a hardware device";
   } catch (const reduced::Error& error) {
     EXPECT_NE(std::string(error.what()).find("examples/device_adapters"), std::string::npos);
   }
   choice.trajectory = "a.csv";
-  EXPECT_THROW(choose_device(prepared.description, choice), reduced::Error);
+  EXPECT_THROW(choose_devices(prepared.description, choice), reduced::Error);
+}
+
+// The runtime's devices: one per hand, checked; a null entry keeps the scene's own.
+TEST(SceneRuntime, TakesOneDevicePerHand) {
+  const scene::PreparedScene prepared = prepare(cube_scene());
+  EXPECT_THROW(scene::SceneRuntime(prepared, std::vector<scene::DeviceDescription>{}),
+               reduced::Error);
+  std::vector<haptic::Device*> two(2, nullptr);
+  EXPECT_THROW(scene::SceneRuntime(prepared, std::span<haptic::Device* const>(two)),
+               reduced::Error);
+  const std::vector<haptic::Device*> scene_own(1, nullptr);
+  scene::SceneRuntime runtime(prepared, std::span<haptic::Device* const>(scene_own));
+  EXPECT_NE(dynamic_cast<haptic::NullDevice*>(&runtime.raw_device()), nullptr);
+  EXPECT_EQ(runtime.hand_count(), 1);
+  EXPECT_EQ(runtime.held_object(), 1);
 }
 
 }  // namespace

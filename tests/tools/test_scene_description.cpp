@@ -55,7 +55,7 @@ Json reduced_scene() {
 TEST(SceneDescription, MinimalSceneResolvesNamesRolesAndPaths) {
   const SceneDescription scene = parse(minimal_scene());
   EXPECT_EQ(scene.source, "scene.json");
-  EXPECT_EQ(scene.version, 1);
+  EXPECT_EQ(scene.version, 2);
   ASSERT_EQ(scene.objects.size(), 2u);
   const ObjectDescription& tool = scene.objects[0];
   EXPECT_EQ(tool.name, "tool");
@@ -66,12 +66,44 @@ TEST(SceneDescription, MinimalSceneResolvesNamesRolesAndPaths) {
   EXPECT_FALSE(tool.roles.distance_field);
   EXPECT_FALSE(scene.objects[1].roles.pointshell);
   EXPECT_TRUE(scene.objects[1].roles.distance_field);
-  EXPECT_EQ(scene.haptic.object, "tool");
-  EXPECT_EQ(scene.haptic.object_index, 0);
-  EXPECT_EQ(&scene.haptic_object(), &scene.objects[0]);
-  EXPECT_EQ(scene.haptic.role, contact::HapticObject::pointshell);
+  EXPECT_EQ(scene.haptic.front().object, "tool");
+  EXPECT_EQ(scene.haptic.front().object_index, 0);
+  EXPECT_EQ(&scene.held_object(), &scene.objects[0]);
+  EXPECT_EQ(scene.haptic.front().role, contact::HapticObject::pointshell);
   EXPECT_EQ(scene.contact.haptic_object, contact::HapticObject::pointshell);
-  EXPECT_TRUE(scene.haptic.grasp_at_centre);
+  EXPECT_TRUE(scene.haptic.front().grasp_at_centre);
+}
+
+// Version 2: "haptic" as a list, each hand with its object, role, grasp point and device; a
+// version-1 file (one hand, top-level device) reads into the same structure.
+TEST(SceneDescription, SeveralHandsEachWithItsDevice) {
+  Json scene = minimal_scene();
+  scene["version"] = 2;
+  scene["objects"][1]["roles"] = {"distance_field", "pointshell"};
+  scene["haptic"] = Json::parse(R"([
+    {"object": "tool", "device": {"type": "null", "pose": {"position": [0, 0.1, 0]}}},
+    {"object": "wall", "role": "distance_field", "grasp_point": [0, 0, 0.01],
+     "device": {"type": "operator", "keyframes": [{"time": 1, "position": [0, 0, 0]}]}}
+  ])");
+  const SceneDescription s = parse(scene);
+  ASSERT_EQ(s.haptic.size(), 2u);
+  EXPECT_EQ(s.haptic[0].object_index, 0);
+  EXPECT_EQ(s.haptic[0].role, contact::HapticObject::pointshell);
+  EXPECT_EQ(s.haptic[0].device.type, DeviceType::null);
+  EXPECT_EQ(s.haptic[0].device.null_pose.position.y(), 0.1);
+  EXPECT_EQ(&s.held_object(1), &s.objects[1]);
+  EXPECT_EQ(s.haptic[1].role, contact::HapticObject::distance_field);
+  EXPECT_FALSE(s.haptic[1].grasp_at_centre);
+  EXPECT_EQ(s.haptic[1].device.type, DeviceType::simulated_operator);
+  EXPECT_EQ(s.contact.haptic_object, contact::HapticObject::pointshell);  // the first hand's
+
+  Json version_1 = minimal_scene();
+  version_1["version"] = 1;
+  version_1["device"] = {{"type", "null"}, {"pose", {{"position", {0, 0.2, 0}}}}};
+  const SceneDescription one = parse(version_1);
+  EXPECT_EQ(one.version, 1);
+  ASSERT_EQ(one.haptic.size(), 1u);
+  EXPECT_EQ(one.haptic[0].device.null_pose.position.y(), 0.2);
 }
 
 TEST(SceneDescription, ObjectDefaultsAreTheLibraryDefaults) {
@@ -205,7 +237,7 @@ TEST(SceneDescription, SceneDefaultsAreTheLibraryDefaults) {
   EXPECT_EQ(scene.loop.cpu, loop.cpu);
   EXPECT_EQ(scene.duration, 0.0);
 
-  const DeviceDescription& device = scene.device;
+  const DeviceDescription& device = scene.haptic.front().device;
   EXPECT_EQ(device.type, DeviceType::null);
   const haptic::DeviceCapabilities null_capabilities = haptic::NullDevice::default_capabilities();
   EXPECT_EQ(device.capabilities.name, null_capabilities.name);
@@ -333,9 +365,9 @@ TEST(SceneDescription, EverySettingReachesItsMember) {
   EXPECT_EQ(tool.pointshell.seed, 3u);
   EXPECT_EQ(s.objects[1].scale, 2.0);
 
-  EXPECT_EQ(s.haptic.role, contact::HapticObject::distance_field);
-  EXPECT_FALSE(s.haptic.grasp_at_centre);
-  EXPECT_TRUE(s.haptic.grasp_point.isApprox(Eigen::Vector3d(0.01, 0.02, 0.03)));
+  EXPECT_EQ(s.haptic.front().role, contact::HapticObject::distance_field);
+  EXPECT_FALSE(s.haptic.front().grasp_at_centre);
+  EXPECT_TRUE(s.haptic.front().grasp_point.isApprox(Eigen::Vector3d(0.01, 0.02, 0.03)));
 
   EXPECT_EQ(s.contact.haptic_object, contact::HapticObject::distance_field);
   EXPECT_EQ(s.contact.stiffness, 2000.0);
@@ -356,7 +388,7 @@ TEST(SceneDescription, EverySettingReachesItsMember) {
   EXPECT_EQ(s.coupling.rotation_length, 0.1);
   EXPECT_EQ(s.coupling.period, 1.0 / 500.0);
 
-  const DeviceDescription& device = s.device;
+  const DeviceDescription& device = s.haptic.front().device;
   EXPECT_EQ(device.type, DeviceType::simulated_operator);
   ASSERT_EQ(device.keyframes.size(), 2u);
   EXPECT_EQ(device.keyframes[1].time, 1.0);
@@ -396,7 +428,7 @@ TEST(SceneDescription, DerivedDefaults) {
   Json scene = minimal_scene();
   scene["objects"][0]["roles"] = {"distance_field", "pointshell"};
   scene["objects"][1]["roles"] = {"pointshell"};
-  EXPECT_EQ(parse(scene).haptic.role, contact::HapticObject::distance_field);
+  EXPECT_EQ(parse(scene).haptic.front().role, contact::HapticObject::distance_field);
 
   // Without derivatives, r defaults to k.
   scene = reduced_scene();
@@ -418,7 +450,7 @@ TEST(SceneDescription, DerivedDefaults) {
   EXPECT_EQ(s.objects[1].field.cells, 64);
   EXPECT_EQ(s.coupling.period, 0.0005);
   EXPECT_EQ(s.objects[0].model.integrator.newmark.time_step, 0.0005);
-  EXPECT_EQ(s.device.capabilities.nominal_rate, 2000.0);
+  EXPECT_EQ(s.haptic.front().device.capabilities.nominal_rate, 2000.0);
 }
 
 TEST(SceneDescription, SketchAndSimulationDataBases) {
@@ -453,20 +485,22 @@ TEST(SceneDescription, OtherDevices) {
   scene["device"] = {
       {"type", "trajectory"}, {"file", "press.csv"}, {"playback", "at_nominal_rate"}};
   SceneDescription s = parse(scene);
-  EXPECT_EQ(s.device.type, DeviceType::trajectory);
-  EXPECT_EQ(s.device.trajectory_path, (test::test_file("scenes") / "press.csv").lexically_normal());
-  EXPECT_EQ(s.device.trajectory.playback, haptic::Playback::at_nominal_rate);
-  EXPECT_EQ(s.device.capabilities.name, haptic::TrajectoryDevice::default_capabilities().name);
+  EXPECT_EQ(s.haptic.front().device.type, DeviceType::trajectory);
+  EXPECT_EQ(s.haptic.front().device.trajectory_path,
+            (test::test_file("scenes") / "press.csv").lexically_normal());
+  EXPECT_EQ(s.haptic.front().device.trajectory.playback, haptic::Playback::at_nominal_rate);
+  EXPECT_EQ(s.haptic.front().device.capabilities.name,
+            haptic::TrajectoryDevice::default_capabilities().name);
 
   scene["device"] = {{"type", "hardware"}, {"name", "openhaptics"}};
   s = parse(scene);
-  EXPECT_EQ(s.device.type, DeviceType::hardware);
-  EXPECT_EQ(s.device.hardware_name, "openhaptics");
+  EXPECT_EQ(s.haptic.front().device.type, DeviceType::hardware);
+  EXPECT_EQ(s.haptic.front().device.hardware_name, "openhaptics");
 
   scene["device"] = Json::parse(R"({"type": "null", "pose": {"position": [0, 0.1, 0]}})");
   s = parse(scene);
-  EXPECT_EQ(s.device.type, DeviceType::null);
-  EXPECT_EQ(s.device.null_pose.position.y(), 0.1);
+  EXPECT_EQ(s.haptic.front().device.type, DeviceType::null);
+  EXPECT_EQ(s.haptic.front().device.null_pose.position.y(), 0.1);
 }
 
 TEST(SceneDescription, MeshPaths) {

@@ -176,8 +176,8 @@ TEST(SceneErrors, WrongTypes) {
                          "expected an object {...}, got 5"));
   EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][0]["name"] = ""; }), "objects[0].name",
                          "expected a non-empty string, got \"\""));
-  EXPECT_TRUE(fails_with(edited([](Json& s) { s["version"] = 2; }), "version",
-                         "expected 1 (the only scene format version so far), got 2"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["version"] = 3; }), "version",
+                         "expected 1 or 2 (the scene format versions so far), got 3"));
 }
 
 TEST(SceneErrors, NumbersOutOfRange) {
@@ -367,6 +367,68 @@ TEST(SceneErrors, TheHeldObject) {
   EXPECT_TRUE(fails_with(edited([](Json& s) { s["haptic"]["grasp_point"] = "center"; }),
                          "haptic.grasp_point",
                          "expected \"centre\", got \"center\"; did you mean \"centre\"?"));
+}
+
+/// minimal_scene() with its hand as a one-entry list (version 2) and the top-level device moved
+/// into it.
+Json two_hand_base() {
+  Json scene = minimal_scene();
+  scene["objects"][1]["roles"] = {"distance_field", "pointshell"};
+  scene["haptic"] = Json::array({{{"object", "tool"}, {"device", {{"type", "null"}}}},
+                                 {{"object", "wall"}, {"role", "distance_field"}}});
+  return scene;
+}
+
+TEST(SceneErrors, SeveralHands) {
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["version"] = 1; }, two_hand_base()), "haptic",
+                         "a list of held objects needs \"version\": 2 (version 1 holds one "
+                         "object: \"haptic\": {\"object\": ...})"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["haptic"] = Json::array(); }), "haptic",
+                         "expected at least one held object [{\"object\": ...}, ...], got []"));
+  EXPECT_TRUE(fails_with(edited(
+                             [](Json& s) {
+                               s["device"] = {{"type", "null"}};
+                             },
+                             two_hand_base()),
+                         "device",
+                         "with \"haptic\" as a list, each hand names its own device: move "
+                         "this block into haptic[i].device"));
+  EXPECT_TRUE(fails_with(edited(
+                             [](Json& s) {
+                               s["haptic"][1]["object"] = "tool";
+                               s["haptic"][1].erase("role");
+                             },
+                             two_hand_base()),
+                         "haptic[1].object",
+                         "object \"tool\" is held by haptic[0] already; a hand holds an object "
+                         "of its own"));
+  EXPECT_TRUE(fails_with(edited(
+                             [](Json& s) {
+                               s["haptic"][1]["device"] = {{"type", "robot"}};
+                             },
+                             two_hand_base()),
+                         "haptic[1].device.type",
+                         "expected one of \"null\", \"trajectory\", \"operator\" or "
+                         "\"hardware\", got \"robot\""));
+  EXPECT_TRUE(fails_with(
+      edited([](Json& s) { s["haptic"][0]["devise"] = Json::object(); }, two_hand_base()),
+      "haptic[0].devise", "unknown key; did you mean \"device\"?"));
+  // A held object only another held object could touch is fine; one nothing can touch is not.
+  EXPECT_TRUE(fails_with(
+      edited([](Json& s) { s["objects"][1]["roles"] = {"pointshell"}; }, two_hand_base()),
+      "haptic[1].role",
+      "object \"wall\" (objects[1]) has no \"distance_field\" role (its "
+      "roles: \"pointshell\")"));
+  EXPECT_TRUE(fails_with(edited(
+                             [](Json& s) {
+                               s["objects"][1]["roles"] = {"pointshell"};
+                               s["haptic"][1].erase("role");
+                             },
+                             two_hand_base()),
+                         "haptic[0].object",
+                         "the held object \"tool\" (objects[0]) plays \"pointshell\", but "
+                         "there is no other object with the \"distance_field\" role for it to "
+                         "touch"));
 }
 
 TEST(SceneErrors, ReducedModelSettings) {

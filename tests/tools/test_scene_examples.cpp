@@ -65,13 +65,13 @@ TEST(SceneExamples, EveryDeviceFileValidates) {
 TEST(SceneExamples, TheDeformableDragonOnTheDino) {
   const SceneDescription scene =
       read_scene(std::filesystem::path(KHZ_SCENE_EXAMPLES_DIR) / "dragon_on_dino.json");
-  const ObjectDescription& dragon = scene.haptic_object();
+  const ObjectDescription& dragon = scene.held_object();
   EXPECT_EQ(dragon.name, "dragon");
   EXPECT_TRUE(dragon.is_reduced());
-  EXPECT_EQ(scene.haptic.role, contact::HapticObject::pointshell);
+  EXPECT_EQ(scene.haptic.front().role, contact::HapticObject::pointshell);
   EXPECT_TRUE(needs_product(dragon, Product::point_tree));
   EXPECT_EQ(dragon.mesh_path.filename(), "ChineseDragon-10kv.off");
-  EXPECT_EQ(scene.device.type, DeviceType::trajectory);
+  EXPECT_EQ(scene.haptic.front().device.type, DeviceType::trajectory);
 }
 
 /// The example at small settings: fields of at most 40 cells, repulsion pointshells of 32 · 4ⁱ
@@ -128,7 +128,7 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
   EXPECT_EQ(prepare_scene(description, again).count(PrepareRecord::Origin::computed), 0)
       << "the second preparation recomputes nothing";
 
-  run::SceneRuntime runtime(prepared, description.device);
+  scene::SceneRuntime runtime(prepared);
   std::vector<run::RecordedState> states;
   std::optional<run::FrameSummary> contact_frame;
   const run::FrameRenderer renderer(runtime, [] {
@@ -139,23 +139,30 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
   }());
   run::RunOptions run_options;
   run_options.frame_every = 1;
-  run_options.on_frame = [&](int, run::SceneRuntime& r) {
+  run_options.on_frame = [&](int, scene::SceneRuntime& r) {
     states.push_back(run::record_state(r));
-    if (!contact_frame && r.cycle().record().contact.statistics.points_in_contact > 0) {
+    if (!contact_frame && r.world().records()[0].contact.statistics.points_in_contact > 0) {
       run::FrameSummary summary;
       renderer.render(run::capture_frame(r), &summary);
       contact_frame = summary;
     }
     return true;
   };
-  const std::vector<run::CycleRow> rows = run::run_scene(runtime, run_options);
-  const run::RunSummary summary = run::summarize(rows, 1.0 / description.loop.rate_hz);
-  EXPECT_TRUE(summary.finite);
-  EXPECT_EQ(summary.failed_cycles, 0);
-  EXPECT_GT(summary.cycles_in_contact, summary.cycles / 10) << "the example is about contact";
-  EXPECT_GT(summary.max_force, 0.0);
-  EXPECT_LT(summary.max_force, 200.0);
-  EXPECT_LE(summary.max_rendered_force, description.coupling.max_rendered_force + 1e-9);
+  const run::HandRows rows = run::run_scene(runtime, run_options);
+  ASSERT_EQ(rows.size(), description.haptic.size());
+  for (std::size_t h = 0; h < rows.size(); ++h) {
+    SCOPED_TRACE("hand " + std::to_string(h));
+    const run::RunSummary summary = run::summarize(rows[h], 1.0 / description.loop.rate_hz);
+    EXPECT_TRUE(summary.finite);
+    EXPECT_EQ(summary.failed_cycles, 0);
+    EXPECT_GT(summary.cycles_in_contact, summary.cycles / 10) << "the example is about contact";
+    EXPECT_GT(summary.max_force, 0.0);
+    EXPECT_LT(summary.max_force, 200.0);
+    // Within the coupling's limit and the device's own (the safety layer's clamp).
+    EXPECT_LE(summary.max_rendered_force, description.coupling.max_rendered_force + 1e-9);
+    EXPECT_LE(summary.max_rendered_force,
+              runtime.raw_device(static_cast<int>(h)).capabilities().max_force + 1e-9);
+  }
   ASSERT_TRUE(contact_frame.has_value());
   EXPECT_GT(contact_frame->in_contact, 0);
   EXPECT_GT(contact_frame->traversed, 0);
@@ -172,7 +179,7 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
 INSTANTIATE_TEST_SUITE_P(Examples, SmallExample,
                          testing::Values("dragon_on_dino", "dragon_on_deformable_dino",
                                          "million_point_bunny", "bunny_on_dino", "alpha_puzzle",
-                                         "peg_in_hole"),
+                                         "peg_in_hole", "two_hand_peg_in_hole"),
                          [](const testing::TestParamInfo<std::string>& example) {
                            return example.param;
                          });
@@ -181,8 +188,8 @@ INSTANTIATE_TEST_SUITE_P(Examples, SmallExample,
 TEST(SceneExamples, TheHardwareExampleNamesItsBackend) {
   const SceneDescription scene =
       read_scene(std::filesystem::path(KHZ_SCENE_EXAMPLES_DIR) / "bunny_on_deformable_dino.json");
-  EXPECT_EQ(scene.device.type, DeviceType::hardware);
-  EXPECT_EQ(scene.device.hardware_name, "dhd");
+  EXPECT_EQ(scene.haptic.front().device.type, DeviceType::hardware);
+  EXPECT_EQ(scene.haptic.front().device.hardware_name, "dhd");
 }
 
 }  // namespace

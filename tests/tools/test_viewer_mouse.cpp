@@ -4,8 +4,8 @@
 #include "scene_fixtures.hpp"
 
 #include <khz/haptic/device/safe_device.hpp>
-#include <khz/run/scene_runtime.hpp>
 #include <khz/scene/prepare_scene.hpp>
+#include <khz/scene/scene_runtime.hpp>
 #include <khz/viewer/cursor_drag.hpp>
 #include <khz/viewer/cursor_plane.hpp>
 #include <khz/viewer/mouse_device.hpp>
@@ -194,22 +194,23 @@ TEST(MouseDevice, DrivesASceneRuntimeIntoContact) {
   const scene::PreparedScene prepared = scene::prepare_scene(description, cache);
 
   MouseDevice mouse(description.loop.rate_hz);
-  run::SceneRuntime runtime(prepared, mouse);
+  haptic::Device* const devices[] = {&mouse};
+  scene::SceneRuntime runtime(prepared, devices);
   EXPECT_EQ(&runtime.raw_device(), &mouse);
-  const haptic::Pose start = runtime.coupling().simulation_pose();
+  const haptic::Pose start = runtime.world().coupling(0).simulation_pose();
   EXPECT_LT((start.position - Eigen::Vector3d(0.0, 0.08, 0.0)).norm(), 1e-15);
   runtime.device().set_mapping(mouse_mapping(start));
   const Eigen::Vector3d pressed(0.0, 0.067, 0.0);  // the tool's bottom 3 mm below the top face
   mouse.set_position(device_position(runtime.device().mapping(), pressed));
 
-  runtime.device().open();
+  runtime.open_devices();
   const double period = 1.0 / description.loop.rate_hz;
   haptic::CycleRecord last;
   for (int i = 0; i < 300; ++i) {
     const double now = i * period;
-    last = runtime.cycle().run(now, now + period, [now] { return now; });
+    last = runtime.world().cycle(now, now + period, [now] { return now; }).front();
   }
-  runtime.device().close();
+  runtime.close_devices();
   EXPECT_TRUE(last.device_valid && last.contact_valid && last.coupling_valid);
   EXPECT_LT((last.manipulandum.position - pressed).norm(), 1e-15);
   EXPECT_GT(last.contact.statistics.points_in_contact, 0);

@@ -25,7 +25,7 @@ std::vector<std::filesystem::path> some_frames(const std::vector<std::filesystem
 void report(const RunRequest& request) {
   SceneSession session(request);
   RunResult result = session.run(true);
-  run::SceneRuntime& runtime = session.runtime();
+  scene::SceneRuntime& runtime = session.runtime();
   std::cout << "replaying " << result.states.size() << " states for speed against error\n";
   const std::vector<run::SweepResult> sweep = run::sweep_contact(
       runtime, result.states,
@@ -34,7 +34,8 @@ void report(const RunRequest& request) {
   input.scene = request.scene;
   input.description = runtime.description().description;
   input.rate_hz = runtime.description().loop.rate_hz;
-  input.rows = std::move(result.rows);
+  // The report's plots and tables follow the first hand; the sweep covers every hand.
+  input.rows = std::move(result.rows.front());
   input.sweep = sweep;
   input.frames = some_frames(result.frames, session.out(), 4);
   const run::ReportFiles files = run::write_report(session.out(), input);

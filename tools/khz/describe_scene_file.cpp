@@ -88,13 +88,17 @@ void describe_loop(const scene::SceneDescription& description) {
   std::ostream& out = info_line("loop") << description.loop.rate_hz << " Hz, ";
   if (description.duration > 0.0) {
     out << "for " << description.duration << " s\n";
-  } else if (description.device.type == scene::DeviceType::trajectory) {
-    out << "until the trajectory ends\n";
-  } else if (description.device.type == scene::DeviceType::simulated_operator) {
-    out << "until the last keyframe\n";
-  } else {
-    out << "until interrupted\n";
+    return;
   }
+  bool trajectory = false, keyframes = false;
+  for (const scene::HapticDescription& hand : description.haptic) {
+    trajectory = trajectory || hand.device.type == scene::DeviceType::trajectory;
+    keyframes = keyframes || hand.device.type == scene::DeviceType::simulated_operator;
+  }
+  out << (trajectory && keyframes ? "until the last trajectory or keyframe ends\n"
+          : trajectory            ? "until the trajectory ends\n"
+          : keyframes             ? "until the last keyframe\n"
+                                  : "until interrupted\n");
 }
 
 }  // namespace
@@ -109,18 +113,19 @@ void describe_scene_file(const std::string& file) {
   for (const scene::ObjectDescription& object : description.objects) {
     describe_object(object);
   }
-  const scene::HapticDescription& haptic = description.haptic;
-  std::ostream& out = info_line("haptic")
-                      << haptic.object << " as its "
-                      << (haptic.role == contact::HapticObject::pointshell ? "pointshell"
-                                                                           : "distance_field")
-                      << ", grasped at ";
-  if (haptic.grasp_at_centre) {
-    out << "the centre of its bounding box\n";
-  } else {
-    out << point_text(haptic.grasp_point) << " m (body frame)\n";
+  for (const scene::HapticDescription& haptic : description.haptic) {
+    std::ostream& out = info_line("haptic")
+                        << haptic.object << " as its "
+                        << (haptic.role == contact::HapticObject::pointshell ? "pointshell"
+                                                                             : "distance_field")
+                        << ", grasped at ";
+    if (haptic.grasp_at_centre) {
+      out << "the centre of its bounding box\n";
+    } else {
+      out << point_text(haptic.grasp_point) << " m (body frame)\n";
+    }
+    describe_device(haptic.device);
   }
-  describe_device(description.device);
   describe_loop(description);
 }
 

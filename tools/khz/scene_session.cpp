@@ -3,6 +3,7 @@
 #include "scene_preparation.hpp"
 
 #include <khz/render/png_file.hpp>
+#include <khz/run/device_choice.hpp>
 #include <khz/run/frame_renderer.hpp>
 #include <khz/run/frame_series.hpp>
 #include <khz/run/run_realtime.hpp>
@@ -30,9 +31,19 @@ scene::PreparedScene prepare(const RunRequest& request) {
                                cache_directory(request.cache, request.scene), std::cout);
 }
 
-/// A run that produced non-finite values fails the command (after its log is written).
-void require_finite(const run::RunSummary& summary) {
-  if (!summary.finite) throw reduced::Error("the run produced non-finite forces or poses");
+/// A run that produced non-finite values fails the command (after its logs are written).
+void require_finite(const std::vector<run::RunSummary>& summaries) {
+  for (const run::RunSummary& summary : summaries) {
+    if (!summary.finite) throw reduced::Error("the run produced non-finite forces or poses");
+  }
+}
+
+/// The files, comma-separated.
+std::string files_text(const std::vector<std::filesystem::path>& files) {
+  std::string text;
+  for (const std::filesystem::path& file : files)
+    text += (text.empty() ? "" : ", ") + file.string();
+  return text;
 }
 
 }  // namespace
@@ -93,8 +104,8 @@ SceneSession::SceneSession(const RunRequest& request)
   choice.trajectory = request.trajectory;
   choice.operator_script = request.operator_script;
   choice.hardware = request.device;
-  m_runtime = std::make_unique<run::SceneRuntime>(
-      m_prepared, run::choose_device(m_prepared.description, choice));
+  m_runtime = std::make_unique<scene::SceneRuntime>(
+      m_prepared, run::choose_devices(m_prepared.description, choice));
 }
 
 SceneSession::~SceneSession() = default;
@@ -130,7 +141,7 @@ RunResult SceneSession::run(bool record_states) {
   run::RunOptions options;
   options.duration = m_request.duration;
   options.frame_every = record_states || frame_every == 0 ? 1 : frame_every;
-  options.on_frame = [&](int cycle, run::SceneRuntime& runtime) {
+  options.on_frame = [&](int cycle, scene::SceneRuntime& runtime) {
     if (record_states) result.states.push_back(run::record_state(runtime));
     if (renderer && cycle % frame_every == 0) {
       const run::FrameContent frame = run::capture_frame(runtime);
@@ -147,15 +158,15 @@ RunResult SceneSession::run(bool record_states) {
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.interrupted = interrupt.requested();
-  const run::RunSummary summary = log_rows(result);
+  const std::vector<run::RunSummary> summaries = log_rows(result);
   std::cout << "wall time: " << wall << " s" << (result.interrupted ? " (interrupted)" : "")
-            << "\nwrote " << result.csv.string();
+            << "\nwrote " << files_text(result.csv);
   if (!result.frames.empty()) {
     std::cout << " and " << result.frames.size() << " frames in " << frames.string();
   }
   if (!result.paraview.empty()) std::cout << "\nwrote " << result.paraview.string();
   std::cout << "\n";
-  require_finite(summary);
+  require_finite(summaries);
   return result;
 }
 
@@ -170,24 +181,33 @@ RunResult SceneSession::run_realtime() {
   RunResult result;
   result.rows = std::move(realtime.rows);
   result.interrupted = interrupt.requested();
-  const run::RunSummary summary = log_rows(result);
+  const std::vector<run::RunSummary> summaries = log_rows(result);
   const haptic::LoopStatistics& loop = realtime.loop;
   std::cout << "loop: " << loop.cycles << " cycles, " << loop.deadline_misses
             << " deadline misses, " << loop.skipped_cycles << " periods skipped; work mean "
             << loop.mean_work << " us, p99 " << loop.p99_work << " us, max " << loop.max_work
             << " us; latest wake-up " << loop.max_start_lateness << " us late\n"
-            << "wrote " << result.csv.string() << "\n";
-  require_finite(summary);
+            << "wrote " << files_text(result.csv) << "\n";
+  require_finite(summaries);
   return result;
 }
 
-run::RunSummary SceneSession::log_rows(RunResult& result) const {
-  result.csv = m_out / "cycles.csv";
-  run::write_cycle_csv(result.rows, result.csv);
-  const run::RunSummary summary =
-      run::summarize(result.rows, 1.0 / m_prepared.description.loop.rate_hz);
-  run::print_summary(std::cout, summary);
-  return summary;
+std::vector<run::RunSummary> SceneSession::log_rows(RunResult& result) const {
+  std::vector<run::RunSummary> summaries;
+  const double period = 1.0 / m_prepared.description.loop.rate_hz;
+  const std::size_t hands = result.rows.size();
+  for (std::size_t h = 0; h < hands; ++h) {
+    result.csv.push_back(h == 0 ? m_out / "cycles.csv"
+                                : m_out / ("cycles_hand" + std::to_string(h) + ".csv"));
+    run::write_cycle_csv(result.rows[h], result.csv.back());
+    if (hands > 1) {
+      const scene::HapticDescription& hand = m_prepared.description.haptic[h];
+      std::cout << "hand " << h << " (" << hand.object << "):\n";
+    }
+    summaries.push_back(run::summarize(result.rows[h], period));
+    run::print_summary(std::cout, summaries.back());
+  }
+  return summaries;
 }
 
 }  // namespace khz::tool

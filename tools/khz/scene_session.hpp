@@ -4,8 +4,9 @@
 
 #include <khz/run/contact_sweep.hpp>
 #include <khz/run/cycle_log.hpp>
+#include <khz/run/run_scene.hpp>
 #include <khz/run/run_summary.hpp>
-#include <khz/run/scene_runtime.hpp>
+#include <khz/scene/scene_runtime.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -32,8 +33,9 @@ void add_run_options(CLI::App& command, RunRequest& request);
 
 /// What a run wrote and kept.
 struct RunResult {
-  std::vector<run::CycleRow> rows;
-  std::filesystem::path csv;                  ///< <out>/cycles.csv
+  run::HandRows rows;  ///< Per hand, per cycle.
+  /// Per hand: <out>/cycles.csv for the first, <out>/cycles_hand<h>.csv for hand h ≥ 1.
+  std::vector<std::filesystem::path> csv;
   std::vector<std::filesystem::path> frames;  ///< <out>/frames/frame_NNNNN.png
   std::filesystem::path paraview;             ///< <out>/paraview/run.pvd, if written
   std::vector<run::RecordedState> states;     ///< Every cycle's, when asked for.
@@ -43,29 +45,30 @@ struct RunResult {
 /// A scene read, prepared (progress bars on stderr, summary on stdout) and made runnable.
 class SceneSession {
  public:
-  /// @throws what reading, preparing or SceneRuntime throw.
+  /// @throws what reading, preparing or scene::SceneRuntime throw.
   explicit SceneSession(const RunRequest& request);
   ~SceneSession();
 
   /// The output directory: --out, or khz-run/<scene file stem>.
   const std::filesystem::path& out() const noexcept { return m_out; }
-  run::SceneRuntime& runtime() noexcept { return *m_runtime; }
+  scene::SceneRuntime& runtime() noexcept { return *m_runtime; }
 
   /// Runs the scene (run::run_scene(); run::run_scene_realtime() with --realtime or a hardware
-  /// device, without frames), writes cycles.csv and the frames, prints the summary. With
+  /// device, without frames), writes each hand's cycle CSV and the frames, prints the summary. With
   /// `record_states`, keeps every cycle's state for run::sweep_contact() (simulated time only).
   /// @throws reduced::Error if the run produced non-finite values (after writing the CSV).
   RunResult run(bool record_states);
 
  private:
   RunResult run_realtime();
-  /// Writes result.rows to <out>/cycles.csv (setting result.csv) and prints their summary.
-  run::RunSummary log_rows(RunResult& result) const;
+  /// Writes each hand's rows to its CSV file (setting result.csv) and prints their summaries.
+  /// @returns the summaries, one per hand.
+  std::vector<run::RunSummary> log_rows(RunResult& result) const;
 
   RunRequest m_request;
   std::filesystem::path m_out;
   scene::PreparedScene m_prepared;
-  std::unique_ptr<run::SceneRuntime> m_runtime;
+  std::unique_ptr<scene::SceneRuntime> m_runtime;
 };
 
 }  // namespace khz::tool

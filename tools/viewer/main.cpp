@@ -11,10 +11,10 @@
 #include <khz/haptic/loop/triple_buffer.hpp>
 #include <khz/render/png_file.hpp>
 #include <khz/run/scene_framing.hpp>
-#include <khz/run/scene_runtime.hpp>
 #include <khz/scene/cache_directory.hpp>
 #include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/read_scene.hpp>
+#include <khz/scene/scene_runtime.hpp>
 #include <khz/viewer/cursor_drag.hpp>
 #include <khz/viewer/mouse_device.hpp>
 #include <khz/viewer/mouse_placement.hpp>
@@ -29,6 +29,7 @@
 #include <iostream>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace khz::viewer {
 namespace {
@@ -91,11 +92,13 @@ int view(const ViewerRequest& request) {
   const scene::PreparedScene prepared = prepare(description, request);
   const std::string name = std::filesystem::path(request.scene).stem().string();
 
-  // The mouse replaces the scene's device, placed by mouse_mapping() once the runtime knows
-  // where the held object's grasp point starts.
+  // The mouse replaces the first hand's device (the others keep the scene's), placed by
+  // mouse_mapping() once the runtime knows where the held object's grasp point starts.
   MouseDevice mouse(description.loop.rate_hz, mouse_reach);
-  run::SceneRuntime runtime(prepared, mouse, description.device.safety);
-  const haptic::Pose start = runtime.coupling().simulation_pose();
+  std::vector<haptic::Device*> devices(description.haptic.size(), nullptr);
+  devices.front() = &mouse;
+  scene::SceneRuntime runtime(prepared, devices);
+  const haptic::Pose start = runtime.world().coupling(0).simulation_pose();
   const haptic::WorkspaceMapping mapping = mouse_mapping(start);
   runtime.device().set_mapping(mapping);
 
@@ -110,24 +113,25 @@ int view(const ViewerRequest& request) {
       [&](const Eigen::Vector3d& target) { mouse.set_position(device_position(mapping, target)); });
 
   // The hand-off: the haptic thread fills back() and publishes, this one takes front().
-  haptic::CycleRecord at_start;
-  at_start.simulation = at_start.manipulandum = start;
   SceneSnapshot snapshot;
-  layout.capture(at_start, runtime, snapshot);
+  layout.capture(runtime, snapshot);
+  for (int h = 0; h < runtime.hand_count(); ++h) {
+    haptic::CycleRecord& at_start = snapshot.records[static_cast<std::size_t>(h)];
+    at_start.simulation = at_start.manipulandum = runtime.world().coupling(h).simulation_pose();
+  }
   haptic::TripleBuffer<SceneSnapshot> snapshots(snapshot);
 
   haptic::HapticLoop loop(description.loop);
-  runtime.device().open();
+  runtime.open_devices();
   Clock::time_point origin;  // the loop's time 0, from cycle 0's wake-up
   loop.start([&](const haptic::CycleClock& clock) {
     if (clock.cycle == 0) {
       origin = Clock::now() - std::chrono::duration_cast<Clock::duration>(
                                   std::chrono::duration<double>(clock.time));
     }
-    const haptic::CycleRecord& record =
-        runtime.cycle().run(clock.time, clock.time + clock.period,
-                            [&] { return seconds_between(origin, Clock::now()); });
-    layout.capture(record, runtime, snapshots.back());
+    runtime.world().cycle(clock.time, clock.time + clock.period,
+                          [&] { return seconds_between(origin, Clock::now()); });
+    layout.capture(runtime, snapshots.back());
     snapshots.publish();
   });
   for (const std::string& warning : loop.warnings()) {
@@ -158,7 +162,8 @@ int view(const ViewerRequest& request) {
       window.set_title(title(
           name,
           static_cast<double>(statistics.cycles - titled_cycles) / seconds_between(titled, now),
-          statistics.mean_work, snapshots.front().record.contact.statistics.points_in_contact));
+          statistics.mean_work,
+          snapshots.front().records.front().contact.statistics.points_in_contact));
       titled = now;
       titled_cycles = statistics.cycles;
     }
@@ -166,7 +171,7 @@ int view(const ViewerRequest& request) {
     std::this_thread::sleep_until(next_frame);
   }
   loop.stop();
-  runtime.device().close();
+  runtime.close_devices();
   if (!loop.error().empty()) throw reduced::Error("the haptic loop stopped: " + loop.error());
   const haptic::LoopStatistics statistics = loop.statistics();
   std::printf("%s: %lld cycles at %g Hz, work %.1f µs mean, %.1f µs p99, %lld deadline misses\n",

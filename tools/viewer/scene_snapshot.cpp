@@ -5,7 +5,7 @@
 
 namespace khz::viewer {
 
-SnapshotLayout::SnapshotLayout(const run::SceneRuntime& runtime) : m_offsets{0} {
+SnapshotLayout::SnapshotLayout(const scene::SceneRuntime& runtime) : m_offsets{0} {
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
     const reduced::ReducedIntegrator* integrator = runtime.integrator(i);
     const auto r = integrator != nullptr ? static_cast<int>(integrator->coordinates().size()) : 0;
@@ -17,12 +17,20 @@ SnapshotLayout::SnapshotLayout(const run::SceneRuntime& runtime) : m_offsets{0} 
                          " reduced coordinates in all; this scene's reduced objects have " +
                          std::to_string(m_offsets.back()));
   }
+  m_hands = runtime.hand_count();
+  if (m_hands > SceneSnapshot::max_hands) {
+    throw reduced::Error("the viewer draws at most " + std::to_string(SceneSnapshot::max_hands) +
+                         " hands; this scene has " + std::to_string(m_hands));
+  }
 }
 
-void SnapshotLayout::capture(const haptic::CycleRecord& record, const run::SceneRuntime& runtime,
+void SnapshotLayout::capture(const scene::SceneRuntime& runtime,
                              SceneSnapshot& snapshot) const noexcept {
-  snapshot.record = record;
-  snapshot.held_pose = runtime.pose(runtime.held_object());
+  const std::span<const haptic::CycleRecord> records = runtime.world().records();
+  for (int h = 0; h < m_hands; ++h) {
+    snapshot.records[static_cast<std::size_t>(h)] = records[static_cast<std::size_t>(h)];
+    snapshot.held_poses[static_cast<std::size_t>(h)] = runtime.pose(runtime.held_object(h));
+  }
   for (std::size_t i = 0; i + 1 < m_offsets.size(); ++i) {
     const reduced::ReducedIntegrator* integrator = runtime.integrator(static_cast<int>(i));
     if (integrator == nullptr) continue;

@@ -55,13 +55,16 @@ struct SceneView::Body {
   reduced::VertexMatrix normals;    // smooth bodies: this frame's vertex normals
 };
 
-SceneView::SceneView(const run::SceneRuntime& runtime, const SnapshotLayout& layout,
+SceneView::SceneView(const scene::SceneRuntime& runtime, const SnapshotLayout& layout,
                      const run::SceneFraming& framing)
     : m_layout(layout),
-      m_held(runtime.held_object()),
-      m_grasp_in_body(runtime.grasp_in_body()),
+      m_hand_of(runtime.description().objects.size(), -1),
       m_radius(framing.radius),
       m_reference_force(run::arrow_reference_force(runtime.description())) {
+  for (int h = 0; h < runtime.hand_count(); ++h) {
+    m_hand_of[static_cast<std::size_t>(runtime.held_object(h))] = h;
+    m_grasps_in_body.push_back(runtime.grasp_in_body(h));
+  }
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
     const reduced::TriangleMesh& surface = runtime.surface(i);
     auto body = std::make_unique<Body>();
@@ -72,7 +75,8 @@ SceneView::SceneView(const run::SceneRuntime& runtime, const SnapshotLayout& lay
                                                                   products.model->basis().vectors);
     }
     body->pose = runtime.pose(i);
-    body->color = i == m_held ? m_colors.held_color : m_colors.other_color;
+    body->color =
+        m_hand_of[static_cast<std::size_t>(i)] >= 0 ? m_colors.held_color : m_colors.other_color;
     body->smooth = run::shade_smoothly(surface.triangles);
     body->positions = surface.vertices;
     body->normals.resize(surface.vertices.rows(), 3);
@@ -106,33 +110,36 @@ void SceneView::draw(const SceneSnapshot& snapshot, const render::Camera& camera
   glColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
   glLoadMatrixd(view(camera).data());
 
-  const haptic::CycleRecord& record = snapshot.record;
   glEnable(GL_LIGHTING);
   for (std::size_t i = 0; i < m_bodies.size(); ++i) {
-    const int object = static_cast<int>(i);
-    draw_body(*m_bodies[i], object == m_held ? snapshot.held_pose : m_bodies[i]->pose,
-              m_layout.coordinates(snapshot, object));
+    const int hand = m_hand_of[i];
+    draw_body(*m_bodies[i],
+              hand >= 0 ? snapshot.held_poses[static_cast<std::size_t>(hand)] : m_bodies[i]->pose,
+              m_layout.coordinates(snapshot, static_cast<int>(i)));
   }
   glDisable(GL_LIGHTING);
 
-  // Drawn over the surfaces: the coupling's spring and the contact force.
+  // Drawn over the surfaces: each hand's coupling spring and contact force.
   glDisable(GL_DEPTH_TEST);
-  const Eigen::Vector3d grasp = snapshot.held_pose * m_grasp_in_body;
-  const Eigen::Vector3d& hand = record.manipulandum.position;
-  glLineWidth(1.5f);
-  set_color(m_colors.traversed_color);
-  glBegin(GL_LINES);
-  line(grasp, hand);
-  glEnd();
-  glPointSize(8.0f);
-  glBegin(GL_POINTS);
-  glVertex3dv(hand.data());
-  glEnd();
-  glLineWidth(3.0f);
-  set_color(m_colors.force_color);
-  glBegin(GL_LINES);
-  line(grasp, grasp + record.contact.force * (m_radius / m_reference_force));
-  glEnd();
+  for (std::size_t h = 0; h < m_grasps_in_body.size(); ++h) {
+    const haptic::CycleRecord& record = snapshot.records[h];
+    const Eigen::Vector3d grasp = snapshot.held_poses[h] * m_grasps_in_body[h];
+    const Eigen::Vector3d& device = record.manipulandum.position;
+    glLineWidth(1.5f);
+    set_color(m_colors.traversed_color);
+    glBegin(GL_LINES);
+    line(grasp, device);
+    glEnd();
+    glPointSize(8.0f);
+    glBegin(GL_POINTS);
+    glVertex3dv(device.data());
+    glEnd();
+    glLineWidth(3.0f);
+    set_color(m_colors.force_color);
+    glBegin(GL_LINES);
+    line(grasp, grasp + record.contact.force * (m_radius / m_reference_force));
+    glEnd();
+  }
 }
 
 void SceneView::draw_body(Body& body, const Eigen::Isometry3d& pose,

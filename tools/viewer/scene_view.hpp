@@ -7,7 +7,7 @@
 #include <khz/render/camera.hpp>
 #include <khz/run/frame_renderer.hpp>
 #include <khz/run/scene_framing.hpp>
-#include <khz/run/scene_runtime.hpp>
+#include <khz/scene/scene_runtime.hpp>
 
 #include <Eigen/Geometry>
 
@@ -17,16 +17,16 @@
 namespace khz::viewer {
 
 /// Draws every object's surface, deformed to its q and placed at its pose, the manipulandum
-/// (the mouse's point, joined to the grasp point by the coupling's spring) and the contact force
-/// on the held object as a line from its grasp point. Everything it needs of the runtime is
-/// copied at construction, so drawing never touches the runtime the haptic thread runs: object
-/// poses other than the held one's are those at construction, reduced surfaces are deformed with
-/// their own reduced::EmbeddedSurface.
+/// of each hand (its device's point, joined to the grasp point by the coupling's spring) and the
+/// contact force on each held object as a line from its grasp point. Everything it needs of the
+/// runtime is copied at construction, so drawing never touches the runtime the haptic thread
+/// runs: poses of objects no hand holds are those at construction, reduced surfaces are deformed
+/// with their own reduced::EmbeddedSurface.
 class SceneView {
  public:
   /// Before the haptic loop starts. `layout` must outlive the view.
   /// @throws reduced::Error as reduced::EmbeddedSurface's constructor.
-  SceneView(const run::SceneRuntime& runtime, const SnapshotLayout& layout,
+  SceneView(const scene::SceneRuntime& runtime, const SnapshotLayout& layout,
             const run::SceneFraming& framing);
   ~SceneView();
 
@@ -42,10 +42,10 @@ class SceneView {
   const SnapshotLayout& m_layout;
   run::FrameOptions m_colors;  // FrameRenderer's colours
   std::vector<std::unique_ptr<Body>> m_bodies;
-  int m_held = 0;
-  Eigen::Vector3d m_grasp_in_body;
-  double m_radius = 1.0;     // the scene's (m)
-  double m_reference_force;  // N drawn as long as the scene's radius
+  std::vector<int> m_hand_of;                     // per object: the hand holding it, or −1
+  std::vector<Eigen::Vector3d> m_grasps_in_body;  // per hand
+  double m_radius = 1.0;                          // the scene's (m)
+  double m_reference_force;                       // N drawn as long as the scene's radius
 };
 
 }  // namespace khz::viewer

@@ -7,9 +7,11 @@
 
 namespace khz::run {
 
-RecordedState record_state(const SceneRuntime& runtime) {
+RecordedState record_state(const scene::SceneRuntime& runtime) {
   RecordedState state;
-  state.grasp = runtime.cycle().record().simulation;
+  for (const haptic::CycleRecord& record : runtime.world().records()) {
+    state.grasps.push_back(record.simulation);
+  }
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
     state.coordinates.push_back(runtime.coordinates(i));
   }
@@ -50,7 +52,7 @@ std::vector<SweepSetting> default_sweep(const contact::ContactOptions& scene_opt
 
 namespace {
 
-void apply(SceneRuntime& runtime, const RecordedState& state) {
+void apply(scene::SceneRuntime& runtime, const RecordedState& state) {
   for (std::size_t i = 0; i < state.coordinates.size(); ++i) {
     if (state.coordinates[i].size() > 0)
       runtime.set_coordinates(static_cast<int>(i), state.coordinates[i]);
@@ -64,18 +66,24 @@ struct Replay {
 
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
-Replay replay(SceneRuntime& runtime, const std::vector<const RecordedState*>& states,
+/// Every state's force and torque per hand (state-major), cost and nodes over all pairs.
+Replay replay(scene::SceneRuntime& runtime, const std::vector<const RecordedState*>& states,
               const contact::ContactOptions& options) {
-  runtime.contact().set_options(options);
+  haptic::World& world = runtime.world();
+  world.set_contact_options(options);
   Replay r;
   for (const RecordedState* state : states) {
     apply(runtime, *state);
-    const contact::ContactResult* result = runtime.contact().query(state->grasp);
-    const bool ok = result != nullptr;
-    r.force.push_back(ok ? result->force : Eigen::Vector3d::Constant(nan));
-    r.torque.push_back(ok ? result->torque : Eigen::Vector3d::Constant(nan));
-    r.us.push_back(ok ? result->statistics.microseconds : nan);
-    r.nodes.push_back(ok ? static_cast<double>(result->statistics.nodes_traversed) : nan);
+    const bool ok = world.probe(state->grasps);
+    contact::ContactStatistics statistics;
+    for (int h = 0; h < world.hand_count(); ++h) {
+      const contact::ContactWrench& wrench = world.wrench(h);
+      r.force.push_back(ok ? wrench.force : Eigen::Vector3d::Constant(nan));
+      r.torque.push_back(ok ? wrench.torque : Eigen::Vector3d::Constant(nan));
+      statistics.accumulate(wrench.statistics);
+    }
+    r.us.push_back(ok ? statistics.microseconds : nan);
+    r.nodes.push_back(ok ? static_cast<double>(statistics.nodes_traversed) : nan);
   }
   return r;
 }
@@ -97,7 +105,7 @@ std::pair<double, double> relative_errors(const std::vector<Eigen::Vector3d>& a,
 
 }  // namespace
 
-std::vector<SweepResult> sweep_contact(SceneRuntime& runtime,
+std::vector<SweepResult> sweep_contact(scene::SceneRuntime& runtime,
                                        const std::vector<RecordedState>& states,
                                        const std::vector<SweepSetting>& settings,
                                        std::size_t max_states) {
@@ -106,10 +114,15 @@ std::vector<SweepResult> sweep_contact(SceneRuntime& runtime,
   std::vector<const RecordedState*> all;
   for (const RecordedState& state : states) all.push_back(&state);
   const Replay probe = replay(runtime, all, settings.front().options);
+  const auto hands = static_cast<std::size_t>(runtime.hand_count());
   std::vector<const RecordedState*> touching;
   for (std::size_t i = 0; i < all.size(); ++i) {
-    if (probe.force[i].allFinite() && probe.force[i].squaredNorm() > 0.0) {
-      touching.push_back(all[i]);
+    for (std::size_t h = 0; h < hands; ++h) {
+      const Eigen::Vector3d& force = probe.force[i * hands + h];
+      if (force.allFinite() && force.squaredNorm() > 0.0) {
+        touching.push_back(all[i]);
+        break;
+      }
     }
   }
   if (touching.size() > max_states) {
@@ -134,7 +147,7 @@ std::vector<SweepResult> sweep_contact(SceneRuntime& runtime,
     result.torque_error = relative_errors(r.torque, reference.torque).first;
     results.push_back(result);
   }
-  runtime.contact().set_options(runtime.description().contact);
+  runtime.world().set_contact_options(runtime.description().contact);
   return results;
 }
 

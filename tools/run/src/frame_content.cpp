@@ -2,12 +2,14 @@
 
 namespace khz::run {
 
-FrameContent capture_frame(SceneRuntime& runtime) {
+FrameContent capture_frame(scene::SceneRuntime& runtime) {
   FrameContent frame;
-  const haptic::CycleRecord& record = runtime.cycle().record();
-  frame.time = record.time;
-  frame.grasp_point = record.simulation.position;
-  frame.force = record.contact.force;
+  const haptic::World& world = runtime.world();
+  for (const haptic::CycleRecord& record : world.records()) {
+    frame.time = record.time;
+    frame.grasp_points.push_back(record.simulation.position);
+    frame.forces.push_back(record.contact.force);
+  }
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
     reduced::VertexMatrix vertices = runtime.deformed_vertices(i);
     const Eigen::Isometry3d& pose = runtime.pose(i);
@@ -16,12 +18,13 @@ FrameContent capture_frame(SceneRuntime& runtime) {
     }
     frame.surfaces.push_back(std::move(vertices));
   }
-  const SceneContact& contact = runtime.contact();
-  for (int p = 0; p < contact.pair_count(); ++p) {
-    const auto [pointshell, field] = contact.pair_objects(p);
-    frame.points.push_back(classify_points(contact.bodies()[static_cast<std::size_t>(pointshell)],
-                                           contact.bodies()[static_cast<std::size_t>(field)],
-                                           contact.pair_result(p).statistics.deepest_level));
+  for (int p = 0; p < static_cast<int>(world.pairs().size()); ++p) {
+    const haptic::WorldPair& pair = world.pairs()[static_cast<std::size_t>(p)];
+    if (!pair.applies_reduced_forces) continue;  // a pair of two held objects, drawn once
+    frame.points.push_back(
+        classify_points(world.bodies()[static_cast<std::size_t>(pair.pointshell)],
+                        world.bodies()[static_cast<std::size_t>(pair.field)],
+                        world.pair_result(p).statistics.deepest_level));
   }
   return frame;
 }

@@ -8,7 +8,7 @@
 namespace khz::run {
 namespace {
 
-render::Camera frame_camera(const SceneRuntime& runtime, const FrameOptions& options,
+render::Camera frame_camera(const scene::SceneRuntime& runtime, const FrameOptions& options,
                             double& radius) {
   if (options.width < 16 || options.height < 16) {
     throw reduced::Error("FrameOptions: width and height must be at least 16 pixels");
@@ -31,12 +31,15 @@ double arrow_reference_force(const scene::SceneDescription& scene, double arrow_
                                                          : 1.0;
 }
 
-FrameRenderer::FrameRenderer(const SceneRuntime& runtime, const FrameOptions& options)
+FrameRenderer::FrameRenderer(const scene::SceneRuntime& runtime, const FrameOptions& options)
     : m_options(options),
-      m_held(runtime.held_object()),
+      m_held(runtime.description().objects.size(), false),
       m_camera(frame_camera(runtime, options, m_scene_radius)) {
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
     m_triangles.push_back(runtime.surface(i).triangles);
+  }
+  for (int h = 0; h < runtime.hand_count(); ++h) {
+    m_held[static_cast<std::size_t>(runtime.held_object(h))] = true;
   }
   m_reference_force = arrow_reference_force(runtime.description(), options.arrow_force);
 }
@@ -45,7 +48,7 @@ render::Image FrameRenderer::render(const FrameContent& frame, FrameSummary* sum
   render::Rasterizer rasterizer(m_camera);
   for (std::size_t i = 0; i < frame.surfaces.size(); ++i) {
     render::MeshStyle style;
-    style.color = static_cast<int>(i) == m_held ? m_options.held_color : m_options.other_color;
+    style.color = m_held[i] ? m_options.held_color : m_options.other_color;
     style.smooth = shade_smoothly(m_triangles[i]);
     rasterizer.draw_mesh(frame.surfaces[i], m_triangles[i], style);
   }
@@ -73,13 +76,15 @@ render::Image FrameRenderer::render(const FrameContent& frame, FrameSummary* sum
     }
   }
 
-  const Eigen::Vector3d tip =
-      frame.grasp_point + frame.force * (m_scene_radius / m_reference_force);
-  if ((tip - frame.grasp_point).norm() > 1e-3 * m_scene_radius) {
-    render::ArrowStyle style;
-    style.color = m_options.force_color;
-    style.always_on_top = true;
-    rasterizer.draw_arrow(frame.grasp_point, tip, style);
+  for (std::size_t h = 0; h < frame.forces.size(); ++h) {
+    const Eigen::Vector3d& grasp = frame.grasp_points[h];
+    const Eigen::Vector3d tip = grasp + frame.forces[h] * (m_scene_radius / m_reference_force);
+    if ((tip - grasp).norm() > 1e-3 * m_scene_radius) {
+      render::ArrowStyle style;
+      style.color = m_options.force_color;
+      style.always_on_top = true;
+      rasterizer.draw_arrow(grasp, tip, style);
+    }
   }
   if (summary != nullptr) *summary = counts;
   return rasterizer.image();

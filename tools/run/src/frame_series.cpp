@@ -3,17 +3,16 @@
 
 namespace khz::run {
 
-FrameSeries::FrameSeries(const SceneRuntime& runtime, const std::filesystem::path& directory)
+FrameSeries::FrameSeries(const scene::SceneRuntime& runtime, const std::filesystem::path& directory)
     : m_collection(directory, "run") {
   const scene::SceneDescription& description = runtime.description();
   for (int i = 0; i < static_cast<int>(description.objects.size()); ++i) {
     m_object_names.push_back(description.objects[static_cast<std::size_t>(i)].name);
     m_triangles.push_back(runtime.surface(i).triangles);
   }
-  const SceneContact& contact = runtime.contact();
-  for (int p = 0; p < contact.pair_count(); ++p) {
-    m_point_parts.push_back(
-        "points_" + m_object_names[static_cast<std::size_t>(contact.pair_objects(p).first)]);
+  for (const haptic::WorldPair& pair : runtime.world().pairs()) {
+    if (!pair.applies_reduced_forces) continue;  // as capture_frame(): each pair once
+    m_point_parts.push_back("points_" + m_object_names[static_cast<std::size_t>(pair.pointshell)]);
   }
 }
 
@@ -34,9 +33,14 @@ void FrameSeries::write(const FrameContent& frame) {
     });
   }
   m_collection.add(frame.time, "force", [&](const std::filesystem::path& file) {
-    const reduced::VertexMatrix point = frame.grasp_point.transpose();
-    const reduced::VertexMatrix force = frame.force.transpose();
-    series::write_point_cloud_vtp(file, point, {{"force", force}});
+    // One point per hand: its grasp point, carrying its force.
+    const auto hands = static_cast<Eigen::Index>(frame.forces.size());
+    reduced::VertexMatrix points(hands, 3), forces(hands, 3);
+    for (Eigen::Index h = 0; h < hands; ++h) {
+      points.row(h) = frame.grasp_points[static_cast<std::size_t>(h)].transpose();
+      forces.row(h) = frame.forces[static_cast<std::size_t>(h)].transpose();
+    }
+    series::write_point_cloud_vtp(file, points, {{"force", forces}});
   });
 }
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
+#include <variant>
 
 namespace khz::run {
 
@@ -10,12 +12,12 @@ std::int64_t PointPicture::count(PointState state) const noexcept {
   return std::count(states.begin(), states.end(), state);
 }
 
-PointPicture classify_points(const ContactBody& pointshell, const ContactBody& field,
+PointPicture classify_points(const haptic::Body& pointshell, const haptic::Body& field,
                              int deepest_level) {
-  const auto* deformable = std::get_if<const contact::DeformablePointTree*>(&pointshell.tree);
-  const contact::PointTree& tree = deformable != nullptr
-                                       ? (*deformable)->tree()
-                                       : *std::get<const contact::PointTree*>(pointshell.tree);
+  const auto* deformable = std::get_if<const contact::DeformablePointTree*>(&pointshell.pointshell);
+  const contact::PointTree& tree =
+      deformable != nullptr ? (*deformable)->tree()
+                            : *std::get<const contact::PointTree*>(pointshell.pointshell);
   PointPicture picture;
   if (deepest_level < 0) return picture;
   const int last = std::min(deepest_level, tree.num_levels() - 1);
@@ -34,13 +36,17 @@ PointPicture classify_points(const ContactBody& pointshell, const ContactBody& f
     picture.positions.row(s) = (pointshell.pose * body).transpose();
   }
   const Eigen::Isometry3d to_field = field.pose.inverse();
-  const auto* grid = std::get_if<const contact::DistanceGrid*>(&field.field);
-  auto* const* deformed = std::get_if<contact::DeformedFieldState*>(&field.field);
   const auto distance = [&](Eigen::Index s) {
     const Eigen::Vector3d x = to_field * Eigen::Vector3d(picture.positions.row(s));
-    return grid != nullptr       ? (*grid)->distance(x)
-           : deformed != nullptr ? (*deformed)->distance(x)
-                                 : std::numeric_limits<double>::infinity();
+    return std::visit(
+        [&](const auto& f) {
+          if constexpr (std::is_same_v<std::decay_t<decltype(f)>, std::monostate>) {
+            return std::numeric_limits<double>::infinity();
+          } else {
+            return f->distance(x);
+          }
+        },
+        field.field);
   };
 
   picture.states.assign(static_cast<std::size_t>(points), PointState::untouched);

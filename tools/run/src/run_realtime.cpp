@@ -8,21 +8,21 @@
 
 namespace khz::run {
 
-RealtimeRun run_scene_realtime(SceneRuntime& runtime, double duration,
+RealtimeRun run_scene_realtime(scene::SceneRuntime& runtime, double duration,
                                const std::function<bool()>& stop_requested) {
   const std::size_t cycles = run_cycles(runtime, duration);
   const haptic::LoopOptions& options = runtime.description().loop;
   RealtimeRun run;
-  run.rows.reserve(cycles);
+  run.rows.resize(static_cast<std::size_t>(runtime.hand_count()));
+  for (std::vector<CycleRow>& hand : run.rows) hand.reserve(cycles);
   std::atomic<bool> done{false};
 
   haptic::HapticLoop loop(options);
-  haptic::SafeDevice& device = runtime.device();
-  device.open();
-  haptic::HapticCycle& cycle = runtime.cycle();
+  runtime.open_devices();
+  haptic::World& world = runtime.world();
   using Clock = std::chrono::steady_clock;
   loop.start([&](const haptic::CycleClock& clock) {
-    if (run.rows.size() == cycles) {
+    if (run.rows.front().size() == cycles) {
       done.store(true, std::memory_order_release);
       return;
     }
@@ -30,16 +30,19 @@ RealtimeRun run_scene_realtime(SceneRuntime& runtime, double duration,
     const auto elapsed = [&] {
       return std::chrono::duration<double>(Clock::now() - start).count();
     };
-    const haptic::CycleRecord& record =
-        cycle.run(clock.time, clock.time + clock.period, [&] { return clock.time + elapsed(); });
-    run.rows.push_back(CycleRow::from(record, 1e6 * elapsed()));
+    const std::span<const haptic::CycleRecord> records =
+        world.cycle(clock.time, clock.time + clock.period, [&] { return clock.time + elapsed(); });
+    const double us = 1e6 * elapsed();
+    for (std::size_t h = 0; h < records.size(); ++h) {
+      run.rows[h].push_back(CycleRow::from(records[h], us));
+    }
   });
   while (!done.load(std::memory_order_acquire) && !(stop_requested && stop_requested()) &&
          loop.running()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   loop.stop();
-  device.close();
+  runtime.close_devices();
   run.loop = loop.statistics();
   run.warnings = loop.warnings();
   if (!loop.error().empty()) throw reduced::Error("the haptic loop stopped: " + loop.error());

@@ -13,7 +13,7 @@ render::Camera SceneFraming::camera(const Eigen::Vector3d& view_direction,
   return render::Camera(eye, centre, up, scene_vertical_fov, width, height);
 }
 
-SceneFraming frame_scene(const SceneRuntime& runtime) {
+SceneFraming frame_scene(const scene::SceneRuntime& runtime) {
   Eigen::AlignedBox3d box;
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
     const reduced::TriangleMesh& surface = runtime.surface(i);

@@ -4,22 +4,22 @@
 // §3.5.1, §3.10.3, Table 3.1).
 
 #include <khz/run/run_summary.hpp>
-#include <khz/run/scene_runtime.hpp>
+#include <khz/scene/scene_runtime.hpp>
 
 #include <string>
 #include <vector>
 
 namespace khz::run {
 
-/// Where everything was in one cycle: the held object's grasp frame and every reduced object's
-/// q (empty for rigid objects).
+/// Where everything was in one cycle: each hand's grasp frame (its held object's simulation
+/// pose) and every reduced object's q (empty for rigid objects).
 struct RecordedState {
-  haptic::Pose grasp;
+  std::vector<haptic::Pose> grasps;
   std::vector<Eigen::VectorXd> coordinates;
 };
 
 /// The state of `runtime` now (for RunOptions::on_frame with frame_every = 1).
-RecordedState record_state(const SceneRuntime& runtime);
+RecordedState record_state(const scene::SceneRuntime& runtime);
 
 /// One way of querying contact: a name for tables and legends and the options.
 struct SweepSetting {
@@ -40,20 +40,22 @@ std::vector<SweepSetting> default_sweep(const contact::ContactOptions& scene_opt
 /// How one setting did over the replayed states.
 struct SweepResult {
   std::string name;
-  Spread query_us;               ///< Query cost over the states in contact (µs).
-  double mean_nodes = 0.0;       ///< Nodes traversed per query, states in contact.
-  double force_error = 0.0;      ///< RMS |F − F_ref| / RMS |F_ref| over the states in contact.
+  Spread query_us;          ///< Query cost over the states in contact (µs).
+  double mean_nodes = 0.0;  ///< Nodes traversed per query, states in contact.
+  /// RMS |F − F_ref| / RMS |F_ref| over the states in contact (every hand's force).
+  double force_error = 0.0;
   double torque_error = 0.0;     ///< The same for the torque.
   double max_force_error = 0.0;  ///< max |F − F_ref| / max |F_ref|.
 };
 
-/// Replays `states` (those where the reference finds contact; at most `max_states` of them,
-/// evenly spaced) through `runtime`'s contact query under each setting in turn, the first
+/// Replays `states` (those where the reference finds contact for some hand; at most
+/// `max_states` of them, evenly spaced) through `runtime`'s World (haptic::World::probe(): every
+/// pair queried, nothing stepped) under each setting in turn, the first
 /// setting being the reference, and restores the scene's options afterwards. Each setting
 /// starts from a reset workspace and sees the states in order, so time budgets warm up as in
 /// a run.
 /// @throws reduced::Error if `settings` is empty, or as SceneRuntime::set_coordinates().
-std::vector<SweepResult> sweep_contact(SceneRuntime& runtime,
+std::vector<SweepResult> sweep_contact(scene::SceneRuntime& runtime,
                                        const std::vector<RecordedState>& states,
                                        const std::vector<SweepSetting>& settings,
                                        std::size_t max_states = 2000);

@@ -3,7 +3,7 @@
 // step show.
 
 #include <khz/run/point_states.hpp>
-#include <khz/run/scene_runtime.hpp>
+#include <khz/scene/scene_runtime.hpp>
 
 #include <Eigen/Core>
 
@@ -19,11 +19,11 @@ struct FrameContent {
   std::vector<reduced::VertexMatrix> surfaces;
   /// Per contact pair: its pointshell's points classified at the pair's last deepest level.
   std::vector<PointPicture> points;
-  Eigen::Vector3d grasp_point = Eigen::Vector3d::Zero();  ///< The held object's (m).
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();        ///< Last contact force on it (N).
+  /// Per hand: its held object's grasp point (m) and the last contact force on it (N).
+  std::vector<Eigen::Vector3d> grasp_points, forces;
 };
 
 /// The runtime's scene now (allocates: not for the haptic thread).
-FrameContent capture_frame(SceneRuntime& runtime);
+FrameContent capture_frame(scene::SceneRuntime& runtime);
 
 }  // namespace khz::run

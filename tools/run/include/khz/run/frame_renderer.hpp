@@ -6,7 +6,7 @@
 #include <khz/render/color.hpp>
 #include <khz/render/image.hpp>
 #include <khz/run/frame_content.hpp>
-#include <khz/run/scene_runtime.hpp>
+#include <khz/scene/scene_runtime.hpp>
 
 #include <filesystem>
 
@@ -20,7 +20,7 @@ struct FrameOptions {
   /// `up`). The eye is placed where the scene's bounding sphere just fits the view.
   Eigen::Vector3d view_direction{1.0, 0.8, 1.6};
   Eigen::Vector3d up = Eigen::Vector3d::UnitY();  ///< World direction shown upwards.
-  render::Color held_color{120, 160, 230};        ///< The held object's surface.
+  render::Color held_color{120, 160, 230};        ///< The held objects' surfaces.
   render::Color other_color{200, 200, 195};       ///< Every other object's surface.
   render::Color traversed_color{250, 200, 40};    ///< Points looked at, not in contact.
   render::Color contact_color{220, 30, 30};       ///< Points in contact.
@@ -44,24 +44,24 @@ struct FrameSummary {
   std::int64_t in_contact = 0;  ///< Points drawn as in contact.
 };
 
-/// Renders frames of one SceneRuntime through a camera fixed at construction (framing the
+/// Renders frames of one scene::SceneRuntime through a camera fixed at construction (framing the
 /// scene's objects at their start poses, so frames of a run line up).
 class FrameRenderer {
  public:
   /// @throws reduced::Error if the options are invalid.
-  FrameRenderer(const SceneRuntime& runtime, const FrameOptions& options = {});
+  FrameRenderer(const scene::SceneRuntime& runtime, const FrameOptions& options = {});
 
   const render::Camera& camera() const noexcept { return m_camera; }
 
   /// A frame of the runtime it was made for (capture_frame()): the surfaces, each contact
   /// pair's points looked at and in contact (untouched points are not drawn), and the contact
-  /// force on the held object as an arrow at its grasp point.
+  /// force on each held object as an arrow at its grasp point.
   /// @param summary if not null, receives the point counts.
   render::Image render(const FrameContent& frame, FrameSummary* summary = nullptr) const;
 
  private:
   FrameOptions m_options;
-  int m_held = 0;
+  std::vector<bool> m_held;                          // per object: whether a hand holds it
   std::vector<reduced::TriangleMatrix> m_triangles;  // per object
   double m_reference_force = 1.0;                    // N drawn as long as the scene's radius
   double m_scene_radius = 0.0;  // set while m_camera is made: declared before it

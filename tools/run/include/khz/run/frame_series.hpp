@@ -19,7 +19,7 @@ namespace khz::run {
 class FrameSeries {
  public:
   /// @throws reduced::IoError if the directory or collection cannot be written.
-  FrameSeries(const SceneRuntime& runtime, const std::filesystem::path& directory);
+  FrameSeries(const scene::SceneRuntime& runtime, const std::filesystem::path& directory);
 
   /// Adds one time step. @throws reduced::IoError naming a file that cannot be written;
   /// reduced::Error if the frame's time is not later than the previous one.

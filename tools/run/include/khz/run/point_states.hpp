@@ -2,8 +2,8 @@
 // Which pointshell points a contact query looks at and which touch (thesis Figure 3.1), for
 // pictures and ParaView files of a run.
 
+#include <khz/haptic/world/body.hpp>
 #include <khz/reduced/mesh/triangle_mesh.hpp>
-#include <khz/run/scene_contact.hpp>
 
 #include <cstdint>
 #include <vector>
@@ -32,10 +32,10 @@ struct PointPicture {
 /// with d < 0 is in contact. This is what a query without temporal coherence visits; one with
 /// coherence skips some of these nodes but finds the same contacts. Not for the haptic thread
 /// (allocates; one distance lookup per node, as the query).
-/// @param pointshell an object with a tree (ContactBody::tree), at its pose and q.
-/// @param field an object with a field (ContactBody::field), at its pose.
+/// @param pointshell a body with a pointshell (haptic::Body::pointshell), at its pose and q.
+/// @param field a body with a distance field (haptic::Body::field), at its pose.
 /// @param deepest_level < 0 gives an empty picture.
-PointPicture classify_points(const ContactBody& pointshell, const ContactBody& field,
+PointPicture classify_points(const haptic::Body& pointshell, const haptic::Body& field,
                              int deepest_level);
 
 }  // namespace khz::run

@@ -3,7 +3,7 @@
 // machine goes, each cycle's cost measured and logged (what `khz run` does).
 
 #include <khz/run/cycle_log.hpp>
-#include <khz/run/scene_runtime.hpp>
+#include <khz/scene/scene_runtime.hpp>
 
 #include <cstddef>
 #include <functional>
@@ -18,7 +18,7 @@ struct RunOptions {
   /// Called between cycles — outside the timed part — after every `frame_every`-th cycle
   /// (cycle 0 first) with the cycle's index: render, write files, report progress. Return false
   /// to stop the run early.
-  std::function<bool(int cycle, SceneRuntime& runtime)> on_frame;
+  std::function<bool(int cycle, scene::SceneRuntime& runtime)> on_frame;
   /// ≥ 1; cycles between on_frame calls.
   int frame_every = 33;
 };
@@ -27,19 +27,22 @@ struct RunOptions {
 /// scene's loop rate: ⌈duration · rate_hz⌉. What run_scene() and run_scene_realtime() run.
 /// @throws reduced::Error if there is no duration (null and hardware devices play no
 ///         recording: set loop.duration, or khz run --duration).
-std::size_t run_cycles(const SceneRuntime& runtime, double duration);
+std::size_t run_cycles(const scene::SceneRuntime& runtime, double duration);
 
-/// Opens the device and runs ⌈duration · rate_hz⌉ cycles of runtime.cycle() at simulated times
+/// The rows of a run, one list per hand: rows[h][i] is hand h's row of cycle i.
+using HandRows = std::vector<std::vector<CycleRow>>;
+
+/// Opens the devices and runs ⌈duration · rate_hz⌉ cycles of the World at simulated times
 /// t = i / rate_hz. Each cycle's cost is measured on the steady clock, but the device's
 /// watchdog sees the simulated clock (a cycle takes no simulated time), so the run is
 /// reproducible: the same scene and inputs give the same rows on every run of a build, whatever
 /// the machine's speed; only the µs columns differ (a build for another CPU agrees to
 /// round-off). The exception is degradation by time budget
 /// (contact.degradation.mode time_budget), whose level of detail follows the measured cost.
-/// The device is closed at the end (also on throw).
-/// @returns one row per cycle.
+/// The devices are closed at the end (also on throw).
+/// @returns one row per hand and cycle (each hand's cycle_us is the whole cycle's).
 /// @throws reduced::Error if the duration is 0 and the device gives none (null and hardware
 ///         devices: set loop.duration), or as the device's open().
-std::vector<CycleRow> run_scene(SceneRuntime& runtime, const RunOptions& options = {});
+HandRows run_scene(scene::SceneRuntime& runtime, const RunOptions& options = {});
 
 }  // namespace khz::run

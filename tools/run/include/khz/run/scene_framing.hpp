@@ -3,7 +3,7 @@
 // just fitting the view (FrameRenderer's frames, the interactive viewer's window).
 
 #include <khz/render/camera.hpp>
-#include <khz/run/scene_runtime.hpp>
+#include <khz/scene/scene_runtime.hpp>
 
 #include <Eigen/Core>
 
@@ -31,6 +31,6 @@ struct SceneFraming {
 };
 
 /// The framing of every object's surface at its current pose (rest shapes, not deformed).
-SceneFraming frame_scene(const SceneRuntime& runtime);
+SceneFraming frame_scene(const scene::SceneRuntime& runtime);
 
 }  // namespace khz::run

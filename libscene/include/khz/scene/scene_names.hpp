@@ -4,6 +4,7 @@
 
 #include <khz/scene/basis_description.hpp>
 #include <khz/scene/device_description.hpp>
+#include <khz/scene/export.hpp>
 #include <khz/scene/pointshell_description.hpp>
 
 #include <string_view>
@@ -11,10 +12,10 @@
 namespace khz::scene {
 
 /// "modes", "sketch" or "simulation_data" (JSON model.basis.method).
-std::string_view basis_method_name(BasisMethod method) noexcept;
+KHZ_SCENE_API std::string_view basis_method_name(BasisMethod method) noexcept;
 /// "repulsion", "vertices", "random" or "voxels" (JSON pointshell.method).
-std::string_view pointshell_method_name(PointshellMethod method) noexcept;
+KHZ_SCENE_API std::string_view pointshell_method_name(PointshellMethod method) noexcept;
 /// "null", "trajectory", "operator" or "hardware" (JSON device.type).
-std::string_view device_type_name(DeviceType type) noexcept;
+KHZ_SCENE_API std::string_view device_type_name(DeviceType type) noexcept;
 
 }  // namespace khz::scene

@@ -8,6 +8,7 @@
 #include <khz/contact/tree/point_tree.hpp>
 #include <khz/reduced/fem/embedding.hpp>
 #include <khz/reduced/subspace/reduced_model.hpp>
+#include <khz/scene/export.hpp>
 #include <khz/scene/scene_description.hpp>
 
 #include <filesystem>
@@ -33,7 +34,7 @@ enum class PrepareStep {
 
 /// "volume_mesh", "reduced_model", "distance_field", "pointshell", "point_tree" or
 /// "deformed_field"; also the cache file names' prefix.
-std::string_view step_name(PrepareStep step) noexcept;
+KHZ_SCENE_API std::string_view step_name(PrepareStep step) noexcept;
 
 /// How prepare_scene() obtained one object's product.
 struct PrepareRecord {
@@ -54,7 +55,7 @@ struct PrepareRecord {
 };
 
 /// "computed", "read" or "built".
-std::string_view origin_name(PrepareRecord::Origin origin) noexcept;
+KHZ_SCENE_API std::string_view origin_name(PrepareRecord::Origin origin) noexcept;
 
 /// One object prepared: what a run of the scene needs of it, and nothing else. Every member is
 /// null unless the object's roles and model call for it (noted per member).
@@ -87,7 +88,7 @@ struct PreparedObject {
 
 /// A prepared scene: its description and, for every object in the same order, what was
 /// prepared. Movable, not copyable; see PreparedObject for the lifetimes.
-struct PreparedScene {
+struct KHZ_SCENE_API PreparedScene {
   /// The scene as read; objects[i] belongs to description.objects[i].
   SceneDescription description;
   std::vector<PreparedObject> objects;

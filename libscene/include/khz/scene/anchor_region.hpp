@@ -2,6 +2,7 @@
 // A region of space whose volume-mesh vertices a reduced model holds fixed (its anchors).
 
 #include <Eigen/Core>
+#include <khz/scene/export.hpp>
 
 namespace khz::scene {
 
@@ -11,7 +12,7 @@ namespace khz::scene {
 ///
 /// JSON: {"type": "box", "min": [x, y, z], "max": [x, y, z]} or
 ///       {"type": "half_space", "point": [x, y, z], "normal": [x, y, z]}.
-struct AnchorRegion {
+struct KHZ_SCENE_API AnchorRegion {
   enum class Kind {
     box,         ///< The closed axis-aligned box [min, max].
     half_space,  ///< The closed half-space the normal points into: (x − point) · normal ≥ 0.

@@ -55,6 +55,7 @@
 // chamfered bottom face on the hole's mouth (z = 0); lowered by d it is d deep in the hole.
 
 #include <khz/reduced/mesh/triangle_mesh.hpp>
+#include <khz/scene/export.hpp>
 
 #include <span>
 #include <string>
@@ -68,14 +69,14 @@ namespace khz::scene {
 inline constexpr int procedural_shape_version = 1;
 
 /// The shapes procedural_shape() knows, sorted: "alpha_tube", "peg", "plate_with_hole".
-std::span<const std::string_view> procedural_shape_names() noexcept;
+KHZ_SCENE_API std::span<const std::string_view> procedural_shape_names() noexcept;
 
 /// `spec` with every parameter written out in the shape's order (as listed above), defaults
 /// filled in and numbers in their shortest exact form: "peg" and "peg:length=8e-2" both give
 /// "peg:side=0.02,length=0.08,chamfer=0.001". Equal texts ⇔ equal meshes (for one
 /// procedural_shape_version).
 /// @throws reduced::Error as procedural_shape(), without generating anything.
-std::string canonical_shape_spec(std::string_view spec);
+KHZ_SCENE_API std::string canonical_shape_spec(std::string_view spec);
 
 /// The mesh `spec` describes (see above): "NAME" or "NAME:KEY=VALUE,...", no spaces, each
 /// parameter at most once, values as decimal or scientific numbers. Under a millisecond for the
@@ -84,6 +85,6 @@ std::string canonical_shape_spec(std::string_view spec);
 ///         the shape's parameters), a parameter given twice, text that is not KEY=VALUE, or a
 ///         value that is no number or out of its range; the message names the shape and the
 ///         parameter and says what was expected and what was found.
-reduced::TriangleMesh procedural_shape(std::string_view spec);
+KHZ_SCENE_API reduced::TriangleMesh procedural_shape(std::string_view spec);
 
 }  // namespace khz::scene

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <khz/scene/export.hpp>
 #include <string>
 #include <vector>
 
@@ -17,7 +18,7 @@ namespace khz::scene {
 /// interrupted or failed computation never leaves a file that looks complete; a product file
 /// that exists is trusted (its own format carries a checksum that the reader verifies).
 /// Not thread-safe; one ProductCache per preparing thread.
-class ProductCache {
+class KHZ_SCENE_API ProductCache {
  public:
   /// What fetch() did for one product.
   struct Record {

@@ -3,6 +3,7 @@
 // scaled to metres and optionally centred, as the scene describes (docs/SCENES.md, "Frames").
 
 #include <khz/reduced/mesh/triangle_mesh.hpp>
+#include <khz/scene/export.hpp>
 #include <khz/scene/object_description.hpp>
 
 namespace khz::scene {
@@ -13,13 +14,13 @@ namespace khz::scene {
 /// centre of the scaled bounding box subtracted. Triangles are kept as they are.
 /// @throws reduced::MeshError if `object.size` is set and the vertices all lie in one point
 ///         (no side to scale), or the mesh has no vertices.
-reduced::TriangleMesh to_body_frame(reduced::TriangleMesh file_mesh,
-                                    const ObjectDescription& object);
+KHZ_SCENE_API reduced::TriangleMesh to_body_frame(reduced::TriangleMesh file_mesh,
+                                                  const ObjectDescription& object);
 
 /// The object's surface mesh in its body frame (to_body_frame()): object.mesh_path read (format
 /// by extension), or the procedural shape object.shape generated (procedural_shape()).
 /// @throws reduced::IoError, ParseError or Error as reduced::read_triangle_mesh(); reduced::Error
 ///         for an invalid shape spec; reduced::MeshError as to_body_frame().
-reduced::TriangleMesh read_body_mesh(const ObjectDescription& object);
+KHZ_SCENE_API reduced::TriangleMesh read_body_mesh(const ObjectDescription& object);
 
 }  // namespace khz::scene

@@ -3,6 +3,7 @@
 // of an object, so a cache can hash it and reuse the product across scenes that differ only in
 // something else (names, poses, contact, coupling, device, loop, integrator settings).
 
+#include <khz/scene/export.hpp>
 #include <khz/scene/object_description.hpp>
 
 #include <filesystem>
@@ -35,11 +36,11 @@ enum class Product {
 };
 
 /// "distance_field", "pointshell", "reduced_model" or "point_tree".
-std::string_view product_name(Product product) noexcept;
+KHZ_SCENE_API std::string_view product_name(Product product) noexcept;
 
 /// Whether the object needs `product`: distance_field when uses_field(), pointshell for the
 /// pointshell role, reduced_model for a reduced model, point_tree for a reduced pointshell.
-bool needs_product(const ObjectDescription& object, Product product) noexcept;
+KHZ_SCENE_API bool needs_product(const ObjectDescription& object, Product product) noexcept;
 
 /// The canonical JSON text of the inputs of `product` (see Product): sorted keys, no spaces,
 /// numbers as the shortest text that reads back to the same double, every default written out,
@@ -49,13 +50,13 @@ bool needs_product(const ObjectDescription& object, Product product) noexcept;
 /// inputs.
 /// @throws reduced::Error if the object does not need the product (needs_product());
 ///         reduced::IoError if the mesh or load file cannot be read.
-std::string content_key(const ObjectDescription& object, Product product);
+KHZ_SCENE_API std::string content_key(const ObjectDescription& object, Product product);
 
 /// XXH3-64 of `text` as 16 lowercase hexadecimal digits: a cache file name for a content key.
-std::string hash_hex(std::string_view text);
+KHZ_SCENE_API std::string hash_hex(std::string_view text);
 
 /// XXH3-64 of a file's bytes as 16 lowercase hexadecimal digits.
 /// @throws reduced::IoError if the file cannot be read.
-std::string file_hash_hex(const std::filesystem::path& file);
+KHZ_SCENE_API std::string file_hash_hex(const std::filesystem::path& file);
 
 }  // namespace khz::scene

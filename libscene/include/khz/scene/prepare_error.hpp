@@ -2,6 +2,7 @@
 // The error a failed scene preparation is reported with: which object, which step, and why.
 
 #include <khz/reduced/errors.hpp>
+#include <khz/scene/export.hpp>
 #include <khz/scene/prepared_scene.hpp>
 
 #include <string>
@@ -14,7 +15,7 @@ namespace khz::scene {
 /// prepare_scene() throws it with std::throw_with_nested(), so the original exception (an
 /// IoError, ParseError, MeshError, SolverError or Error) can be rethrown with
 /// std::rethrow_if_nested() when its type matters.
-class PrepareError : public reduced::Error {
+class KHZ_SCENE_API PrepareError : public reduced::Error {
  public:
   PrepareError(std::string object, PrepareStep step, std::string cause);
 

@@ -2,6 +2,7 @@
 // Where prepared products are kept unless the user says otherwise.
 
 #include <filesystem>
+#include <khz/scene/export.hpp>
 
 namespace khz::scene {
 
@@ -12,6 +13,6 @@ namespace khz::scene {
 /// directories (the examples in a source tree, read-only installs) stay untouched. Empty when
 /// neither variable helps; the caller then chooses (`khz prep` uses `.khz-cache` beside the
 /// scene file).
-std::filesystem::path default_cache_directory();
+KHZ_SCENE_API std::filesystem::path default_cache_directory();
 
 }  // namespace khz::scene

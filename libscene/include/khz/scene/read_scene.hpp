@@ -1,6 +1,7 @@
 #pragma once
 // Reading and validating scene files (JSON): see docs/SCENES.md for the format.
 
+#include <khz/scene/export.hpp>
 #include <khz/scene/scene_description.hpp>
 
 #include <filesystem>
@@ -25,13 +26,13 @@ struct SceneReadOptions {
 /// empty; otherwise the directory this build extracted them to (build/<preset>/cgal-data/data/
 /// meshes, from Debian's libcgal-demo archive /usr/share/doc/libcgal-dev/data.tar.gz, when the
 /// build has tests, benchmarks or examples); otherwise empty (unknown).
-std::filesystem::path default_cgal_mesh_dir();
+KHZ_SCENE_API std::filesystem::path default_cgal_mesh_dir();
 
 /// Reads and validates a scene file. Relative paths resolve against the file's directory
 /// unless options.base_directory says otherwise; errors name the file as `file` names it.
 /// @throws reduced::IoError if the file cannot be read; SceneError (see parse_scene()).
-SceneDescription read_scene(const std::filesystem::path& file,
-                            const SceneReadOptions& options = {});
+KHZ_SCENE_API SceneDescription read_scene(const std::filesystem::path& file,
+                                          const SceneReadOptions& options = {});
 
 /// Reads a device description on its own: a JSON object with the keys of a scene's "device"
 /// (docs/SCENES.md), e.g. {"type": "operator", "keyframes": [...]} — an operator script — or
@@ -40,8 +41,8 @@ SceneDescription read_scene(const std::filesystem::path& file,
 /// nominal_rate defaults to.
 /// @throws reduced::IoError if the file cannot be read; SceneError at the first problem, with
 ///         key paths relative to the file's root object.
-DeviceDescription read_device_file(const std::filesystem::path& file, double rate_hz,
-                                   const SceneReadOptions& options = {});
+KHZ_SCENE_API DeviceDescription read_device_file(const std::filesystem::path& file, double rate_hz,
+                                                 const SceneReadOptions& options = {});
 
 /// Parses and validates scene text. `source` names it in error messages.
 /// @throws SceneError at the first problem, naming the key path and what was expected and
@@ -51,7 +52,7 @@ DeviceDescription read_device_file(const std::filesystem::path& file, double rat
 ///         haptic object that names no object or lacks the role it should play, an object
 ///         with no role or that touches nothing, reduced-model settings on a rigid object,
 ///         and (with check_files) files that do not exist, naming the resolved path.
-SceneDescription parse_scene(std::string_view text, const std::string& source,
-                             const SceneReadOptions& options = {});
+KHZ_SCENE_API SceneDescription parse_scene(std::string_view text, const std::string& source,
+                                           const SceneReadOptions& options = {});
 
 }  // namespace khz::scene

@@ -6,6 +6,7 @@
 #include "read_device.hpp"
 #include "read_object.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <fstream>
@@ -75,41 +76,46 @@ void read_objects(const ObjectReader& root, const ReadContext& context, SceneDes
   }
 }
 
-/// The held object, its role, and that every other object touches it.
-void read_haptic(const ObjectReader& root, SceneDescription& scene) {
-  const ObjectReader haptic(root.required("haptic", "the held object and its grasp point"),
-                            root.at("haptic"), {"object", "role", "grasp_point"},
-                            {{"name", "object"}, {"grasp", "grasp_point"}});
-  HapticDescription& result = scene.haptic;
-  result.object = haptic.required_string("object", "the name of the object the user holds");
+/// The index of the object named `name`, or a failure at `at` that lists or suggests names.
+int object_named(const std::string& name, const SceneDescription& scene, const Location& at) {
   std::vector<std::string_view> names;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     names.push_back(scene.objects[i].name);
-    if (scene.objects[i].name == result.object) result.object_index = static_cast<int>(i);
+    if (scene.objects[i].name == name) return static_cast<int>(i);
   }
-  if (result.object_index < 0) {
-    std::string message = "no object is named " + in_quotes(result.object);
-    if (const auto match = detail::closest_match(result.object, names)) {
-      message += "; did you mean " + in_quotes(*match) + "?";
-    } else {
-      message += " (the objects are";
-      for (std::size_t i = 0; i < names.size(); ++i) {
-        message += (i > 0 ? ", " : " ") + in_quotes(names[i]);
-      }
-      message += ")";
+  std::string message = "no object is named " + in_quotes(name);
+  if (const auto match = detail::closest_match(name, names)) {
+    message += "; did you mean " + in_quotes(*match) + "?";
+  } else {
+    message += " (the objects are";
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      message += (i > 0 ? ", " : " ") + in_quotes(names[i]);
     }
-    haptic.fail("object", message);
+    message += ")";
   }
-  const ObjectDescription& held = scene.haptic_object();
-  const std::string held_text =
-      "object " + in_quotes(held.name) + " (objects[" + std::to_string(result.object_index) + "])";
+  at.fail(message);
+}
+
+/// One hand: the held object, its role and grasp point, and (in a list) its device.
+HapticDescription read_hand(const Json& value, const Location& at, bool in_list,
+                            const ReadContext& context, const SceneDescription& scene) {
+  std::initializer_list<std::string_view> keys = {"object", "role", "grasp_point"};
+  std::initializer_list<std::string_view> list_keys = {"object", "role", "grasp_point", "device"};
+  const ObjectReader haptic(value, at, in_list ? list_keys : keys,
+                            {{"name", "object"}, {"grasp", "grasp_point"}});
+  HapticDescription result;
+  result.object = haptic.required_string("object", "the name of the object the user holds");
+  result.object_index = object_named(result.object, scene, haptic.at("object"));
+  const ObjectDescription& held = scene.objects[static_cast<std::size_t>(result.object_index)];
   result.role = held.roles.distance_field ? contact::HapticObject::distance_field
                                           : contact::HapticObject::pointshell;
   if (haptic.has("role")) {
     result.role = detail::to_choice(haptic.value("role"), haptic.at("role"), detail::role_names);
     if (!has_role(held, result.role)) {
-      haptic.fail("role", held_text + " has no " + role_name(result.role) +
-                              " role (its roles: " + roles_text(held) + ")");
+      haptic.fail("role", "object " + in_quotes(held.name) + " (objects[" +
+                              std::to_string(result.object_index) + "]) has no " +
+                              role_name(result.role) + " role (its roles: " + roles_text(held) +
+                              ")");
     }
   }
   if (haptic.has("grasp_point")) {
@@ -127,30 +133,88 @@ void read_haptic(const ObjectReader& root, SceneDescription& scene) {
       result.grasp_point = detail::to_vector3(grasp, haptic.at("grasp_point"));
     }
   }
-  // The held object touches the others through the other role.
-  const contact::HapticObject needed = other_role(result.role);
-  bool touches = false;
-  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    if (static_cast<int>(i) == result.object_index) continue;
-    const ObjectDescription& other = scene.objects[i];
-    if (!has_role(other, needed)) {
-      root.at("objects").element(i).child("roles").fail(
-          "object " + in_quotes(other.name) + " touches nothing: the held object " +
-          in_quotes(held.name) + " plays " + role_name(result.role) +
-          ", so the other objects need the " + role_name(needed) + " role");
-    }
-    touches = true;
+  if (in_list) {
+    result.device = detail::read_device(haptic.has("device") ? &haptic.value("device") : nullptr,
+                                        haptic.at("device"), context);
   }
-  if (!touches) {
-    haptic.fail("object", "the held " + held_text + " plays " + role_name(result.role) +
-                              ", but there is no other object with the " + role_name(needed) +
-                              " role for it to touch");
+  return result;
+}
+
+/// Whether objects a and b can touch: one's pointshell against the other's field.
+bool can_touch(const ObjectDescription& a, const ObjectDescription& b) {
+  return (a.roles.pointshell && b.roles.distance_field) ||
+         (a.roles.distance_field && b.roles.pointshell);
+}
+
+/// The hands ("haptic": one object with the top-level "device", or a list from version 2, each
+/// with its device), and that every object touches some held one.
+void read_haptic(const ObjectReader& root, const ReadContext& context, SceneDescription& scene) {
+  const Json& haptic = root.required("haptic", "the held object and its grasp point");
+  const Location at = root.at("haptic");
+  if (haptic.is_array()) {
+    if (scene.version < 2) {
+      at.fail(
+          "a list of held objects needs \"version\": 2 (version 1 holds one object: "
+          "\"haptic\": {\"object\": ...})");
+    }
+    if (haptic.empty()) at.expected("at least one held object [{\"object\": ...}, ...]", haptic);
+    if (root.has("device")) {
+      root.at("device").fail(
+          "with \"haptic\" as a list, each hand names its own device: move this block into "
+          "haptic[i].device");
+    }
+    for (std::size_t i = 0; i < haptic.size(); ++i) {
+      scene.haptic.push_back(read_hand(haptic[i], at.element(i), true, context, scene));
+      for (std::size_t j = 0; j < i; ++j) {
+        if (scene.haptic[j].object_index == scene.haptic[i].object_index) {
+          at.element(i).child("object").fail("object " + in_quotes(scene.haptic[i].object) +
+                                             " is held by haptic[" + std::to_string(j) +
+                                             "] already; a hand holds an object of its own");
+        }
+      }
+    }
+  } else {
+    scene.haptic.push_back(read_hand(haptic, at, false, context, scene));
+    scene.haptic.front().device = detail::read_device(
+        root.has("device") ? &root.value("device") : nullptr, root.at("device"), context);
+  }
+  // Every object touches some other through a complementary role, one of the two held: first
+  // the objects no hand holds (the usual mistake: a role missing), then the held ones.
+  std::vector<bool> held(scene.objects.size(), false);
+  for (const HapticDescription& hand : scene.haptic) {
+    held[static_cast<std::size_t>(hand.object_index)] = true;
+  }
+  const auto touches = [&](std::size_t i) {
+    for (std::size_t j = 0; j < scene.objects.size(); ++j) {
+      if (j != i && (held[i] || held[j]) && can_touch(scene.objects[i], scene.objects[j])) {
+        return true;
+      }
+    }
+    return false;
+  };
+  const HapticDescription& first = scene.haptic.front();
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    if (held[i] || touches(i)) continue;
+    root.at("objects").element(i).child("roles").fail(
+        "object " + in_quotes(scene.objects[i].name) + " touches nothing: the held object " +
+        in_quotes(first.object) + " plays " + role_name(first.role) +
+        ", so the other objects need the " + role_name(other_role(first.role)) + " role");
+  }
+  for (std::size_t h = 0; h < scene.haptic.size(); ++h) {
+    const HapticDescription& hand = scene.haptic[h];
+    if (touches(static_cast<std::size_t>(hand.object_index))) continue;
+    const Location object_at =
+        haptic.is_array() ? at.element(h).child("object") : at.child("object");
+    object_at.fail("the held object " + in_quotes(hand.object) + " (objects[" +
+                   std::to_string(hand.object_index) + "]) plays " + role_name(hand.role) +
+                   ", but there is no other object with the " + role_name(other_role(hand.role)) +
+                   " role for it to touch");
   }
 }
 
 void read_contact(const ObjectReader& root, SceneDescription& scene) {
   contact::ContactOptions& options = scene.contact;
-  options.haptic_object = scene.haptic.role;
+  options.haptic_object = scene.haptic.front().role;
   const auto contact = root.object(
       "contact",
       {"stiffness", "scaling_count", "max_level", "gradient", "degradation", "coherence"},
@@ -268,8 +332,12 @@ SceneDescription parse(std::string_view text, const ReadContext& context) {
   SceneDescription scene;
   scene.source = context.source;
   scene.base_directory = context.base_directory;
-  if (root.has("version") && !(root.value("version") == 1)) {
-    root.at("version").expected("1 (the only scene format version so far)", root.value("version"));
+  if (root.has("version")) {
+    const Json& version = root.value("version");
+    if (!(version == 1) && !(version == 2)) {
+      root.at("version").expected("1 or 2 (the scene format versions so far)", version);
+    }
+    scene.version = version.get<int>();
   }
   if (root.has("description")) {
     const Json& description = root.value("description");
@@ -280,11 +348,9 @@ SceneDescription parse(std::string_view text, const ReadContext& context) {
   ReadContext derived = context;
   derived.rate_hz = scene.loop.rate_hz;
   read_objects(root, derived, scene);
-  read_haptic(root, scene);
+  read_haptic(root, derived, scene);
   read_contact(root, scene);
   read_coupling(root, scene);
-  scene.device = detail::read_device(root.has("device") ? &root.value("device") : nullptr,
-                                     root.at("device"), derived);
   check_with_library(scene.loop, root.at("loop"));
   check_with_library(scene.contact, root.at("contact"));
   check_with_library(scene.coupling, root.at("coupling"));

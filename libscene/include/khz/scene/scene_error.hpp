@@ -3,6 +3,7 @@
 // and what was found.
 
 #include <khz/reduced/errors.hpp>
+#include <khz/scene/export.hpp>
 
 #include <string>
 
@@ -14,7 +15,7 @@ namespace khz::scene {
 ///                                            expected an integer ≥ 1, got -3"
 ///   "<source>: <message>"                    when the whole file is concerned (empty key path)
 ///   "<source>:<line>:<column>: <message>"    for JSON syntax errors (as nlohmann/json counts them)
-class SceneError : public reduced::Error {
+class KHZ_SCENE_API SceneError : public reduced::Error {
  public:
   /// An error at a key. @param key_path e.g. "objects[1].model.basis.r"; empty for the file.
   static SceneError at_key(const std::string& source, const std::string& key_path,

@@ -4,6 +4,7 @@
 // otherwise. See docs/SCENES.md, "Preparing a scene".
 
 #include <khz/reduced/progress.hpp>
+#include <khz/scene/export.hpp>
 #include <khz/scene/prepare_error.hpp>
 #include <khz/scene/prepared_scene.hpp>
 #include <khz/scene/product_cache.hpp>
@@ -60,7 +61,7 @@ struct PrepareOptions {
 ///         a product file that is corrupt or belongs to another mesh, an invalid mesh, an
 ///         anchor set that selects no vertex, a solver failure; reduced::Cancelled, unchanged,
 ///         if options.progress cancels.
-PreparedScene prepare_scene(const SceneDescription& scene, ProductCache& cache,
-                            const PrepareOptions& options = {});
+KHZ_SCENE_API PreparedScene prepare_scene(const SceneDescription& scene, ProductCache& cache,
+                                          const PrepareOptions& options = {});
 
 }  // namespace khz::scene
