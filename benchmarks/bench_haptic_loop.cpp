@@ -3,6 +3,7 @@
 //
 //   bench_haptic_loop [--seconds 60] [--loop-scene a|c] [--load spin|memory|none] [--cpu 0]
 //                     [--cycles 8000] [--budget 300] [--costs-fifo] [--skip-costs] [--skip-loop]
+//                     [--skip-world]
 //
 // A simulated operator (virtual device + hand, SimulatedOperator) holds dino.off, its 256³ signed
 // field the haptic object as in the thesis, and its hand's anchor follows an 8 s script: from 3 cm
@@ -29,6 +30,12 @@
 // periods, whether the priority and pin took effect (as the loop's thread sees itself), the
 // lateness of each wake-up, and which misses came from late wake-ups and which from long work.
 //
+// Part 3, the multi-body runtime: scene a's pair as one cycle of a haptic::World against the same
+// pair through HapticCycle, alternating cycle by cycle (the ratio says whether the World costs
+// more for one pair); then a World of three bodies and two hands (the held dino, a bunny held
+// still by a second operator where scene a's stands, and a fixed bunny facing the dino's other
+// flank): mean and p99 of the whole cycle.
+//
 // Per-cycle rows of every run go to <build>/benchmarks/haptic_loop_runs/*.csv. Meshes, fields,
 // pointshells, trees and bases come from bench_contact_query's cache (KHZ_CONTACT_CACHE_DIR); the
 // dragon's reduced model is cached there too.
@@ -40,6 +47,7 @@
 #include <khz/haptic/device/safe_device.hpp>
 #include <khz/haptic/device/simulated_operator.hpp>
 #include <khz/haptic/loop/haptic_loop.hpp>
+#include <khz/haptic/world/world.hpp>
 #include <khz/reduced/io/reduced_model_file.hpp>
 #include <khz/reduced/subspace/polynomial_forces.hpp>
 #include <khz/reduced/subspace/reduced_model.hpp>
@@ -61,6 +69,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <span>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -206,6 +215,7 @@ struct SceneSpec {
   Placement placement;
   kc::ContactOptions contact;
   std::function<SceneInstance(const kc::ContactOptions&)> make;
+  const kc::PointTree* rigid_tree = nullptr;  // the pointshell of a rigid one
 };
 
 /// A and C: bunny00.off (0.5 m) as a 1.02M-point, 6-level pointshell beside the dino's flank.
@@ -213,7 +223,7 @@ SceneSpec bunny_scene(const std::string& name, const kc::ContactOptions& contact
   static const kc::PointTree tree(khz::bench::cached_pointshell(
       "bunny", khz::bench::demo_mesh("bunny00.off", 0.5), false, 256, 750, 6));
   static const Placement placement = touching_dino(tree, 0.05);
-  SceneSpec spec{name, placement, contact, {}};
+  SceneSpec spec{name, placement, contact, {}, &tree};
   spec.make = [](const kc::ContactOptions& options) {
     SceneInstance s;
     s.scene = std::make_unique<kh::PointshellFieldScene<kc::PointTree, kc::DistanceGrid>>(
@@ -799,13 +809,145 @@ void run_loop(const SceneSpec& spec, const LoopRunOptions& options) {
 
 }  // namespace
 
+// ---------------------------------------------------------------------------------------------
+// Part 3: the multi-body World.
+
+/// A hand of a World: a simulated operator following `target` behind its safety layer, whose
+/// device origin is the world point `origin` (the held body's grasp point at rest).
+struct OperatorHand {
+  OperatorHand(kh::TargetFunction target, const Eigen::Vector3d& origin)
+      : device(std::move(target)), safe(device, {}, [&] {
+          kh::WorkspaceMapping m;
+          m.offset.position = origin;
+          return m;
+        }()) {
+    safe.open();
+  }
+  kh::SimulatedOperator device;
+  kh::SafeDevice safe;
+};
+
+/// Whole-cycle µs, over all cycles and over those with contact for some hand.
+struct WorldCosts {
+  std::vector<double> all, in_contact;
+  long failures = 0;
+  void add(double us, std::span<const kh::CycleRecord> records) {
+    all.push_back(us);
+    bool touching = false;
+    for (const kh::CycleRecord& r : records) {
+      touching = touching || r.contact.statistics.points_in_contact > 0;
+      if (!(r.device_valid && r.contact_valid && r.coupling_valid && r.integrators_ok)) ++failures;
+    }
+    if (touching) in_contact.push_back(us);
+  }
+};
+
+void print_world_costs(const char* name, const WorldCosts& costs) {
+  const Spread all = spread(costs.all), touching = spread(costs.in_contact);
+  std::printf(
+      "  %-44s mean %7.1f  p99 %7.1f | in contact (%5zu cycles) mean %7.1f  p99 %7.1f"
+      "  failed %ld\n",
+      name, all.mean, all.p99, costs.in_contact.size(), touching.mean, touching.p99,
+      costs.failures);
+}
+
+/// Scene a's pair run two ways in lock step, cycle by cycle (so both see the machine alike): as
+/// before by HapticCycle over PointshellFieldScene, and by a World of its two bodies; then a
+/// World of three bodies and two hands: the held dino, a bunny held by a second hand at its
+/// place (still), and a fixed bunny turned to face the dino's other flank.
+void run_world(const SceneSpec& spec, int cycles) {
+  const Placement& placement = spec.placement;
+  const kc::PointTree& bunny = *spec.rigid_tree;
+  const kh::DeviceCapabilities capabilities = kh::SimulatedOperator(hand_target()).capabilities();
+  const kh::CouplingOptions coupling = coupling_options(spec.contact, placement, capabilities);
+
+  const auto dino_body = [] {
+    kh::Body body;
+    body.name = "dino";
+    body.field = &dino_field();
+    return body;
+  };
+  const auto bunny_body = [&](const Eigen::Isometry3d& pose) {
+    kh::Body body;
+    body.name = "bunny";
+    body.pose = pose;
+    body.pointshell = &bunny;
+    return body;
+  };
+  const auto hand = [&](int body, const Eigen::Vector3d& grasp, OperatorHand& held) {
+    kh::Hand h;
+    h.body = body;
+    h.grasp_in_body = grasp;
+    h.device = &held.safe;
+    h.coupling = coupling;
+    return h;
+  };
+
+  // One pair: HapticCycle (Rig) against World, alternating. Their watchdogs see the simulated
+  // clock, so a cycle the machine delays does not zero one's output and not the other's: the two
+  // then render the same forces, and any difference is the World's doing.
+  Rig rig(spec, spec.contact);
+  OperatorHand one_hand(hand_target(), placement.grasp);
+  kh::World one_pair({dino_body(), bunny_body(placement.pointshell)},
+                     {hand(0, placement.grasp, one_hand)}, spec.contact);
+  WorldCosts cycle_costs, world_costs;
+  double largest_difference = 0.0;  // N, between the two ways' contact forces
+  for (int i = 0; i < cycles; ++i) {
+    const double now = i * period;
+    Clock::time_point start = Clock::now();
+    const kh::CycleRecord& r = rig.run(now, [now] { return now; });
+    cycle_costs.add(microseconds(Clock::now() - start), std::span(&r, 1));
+    start = Clock::now();
+    const std::span<const kh::CycleRecord> records =
+        one_pair.cycle(now, now + period, [now] { return now; });
+    world_costs.add(microseconds(Clock::now() - start), records);
+    largest_difference =
+        std::max(largest_difference, (records.front().contact.force - r.contact.force).norm());
+  }
+  std::printf("\nPart 3: the multi-body World (%d cycles each, µs per whole cycle)\n", cycles);
+  print_world_costs("one pair, HapticCycle + PointshellFieldScene", cycle_costs);
+  print_world_costs("one pair, World", world_costs);
+  std::printf(
+      "  World ÷ HapticCycle: mean %.3f, p99 %.3f (in contact: mean %.3f, p99 %.3f); "
+      "largest force difference %.3g N\n",
+      spread(world_costs.all).mean / spread(cycle_costs.all).mean,
+      spread(world_costs.all).p99 / spread(cycle_costs.all).p99,
+      spread(world_costs.in_contact).mean / spread(cycle_costs.in_contact).mean,
+      spread(world_costs.in_contact).p99 / spread(cycle_costs.in_contact).p99, largest_difference);
+
+  // Two hands, three bodies: pairs dino–held bunny (queried once per hand) and dino–fixed bunny.
+  const Eigen::Isometry3d facing_other_flank =
+      Eigen::Isometry3d(Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitY())) *
+      placement.pointshell;
+  OperatorHand dino_hand(hand_target(), placement.grasp);
+  OperatorHand bunny_hand([](double) { return kh::Pose{}; }, placement.grasp);
+  kh::World two_hands(
+      {dino_body(), bunny_body(placement.pointshell), bunny_body(facing_other_flank)},
+      {hand(0, placement.grasp, dino_hand),
+       hand(1, placement.pointshell.inverse() * placement.grasp, bunny_hand)},
+      spec.contact);
+  WorldCosts three_bodies;
+  long both_in_contact = 0;
+  for (int i = 0; i < cycles; ++i) {
+    const double now = i * period;
+    const Clock::time_point start = Clock::now();
+    const std::span<const kh::CycleRecord> records =
+        two_hands.cycle(now, now + period, [now] { return now; });
+    three_bodies.add(microseconds(Clock::now() - start), records);
+    both_in_contact += records[0].contact.statistics.points_in_contact > 0 &&
+                       records[1].contact.statistics.points_in_contact > 0;
+  }
+  print_world_costs("two hands, three bodies, 3 queries", three_bodies);
+  std::printf("  (both hands in contact in %ld cycles)\n", both_in_contact);
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"Haptic loop: full-cycle costs and the 1 kHz loop under load"};
   LoopRunOptions loop;
   int cycles = static_cast<int>(script_seconds / period);
   double budget = 300.0;
   std::string loop_scene = "c";
-  bool costs_fifo = false, skip_costs = false, skip_loop = false;
+  bool costs_fifo = false, skip_costs = false, skip_loop = false, skip_world = false;
   app.add_option("--seconds", loop.seconds, "Duration of each real-time loop run (s)")
       ->check(CLI::PositiveNumber);
   app.add_option("--cycles", cycles, "Cycles per scene for the full-cycle costs")
@@ -824,6 +966,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, static_cast<int>(std::thread::hardware_concurrency()) - 1));
   app.add_flag("--skip-costs", skip_costs, "Skip the full-cycle costs");
   app.add_flag("--skip-loop", skip_loop, "Skip the real-time loop runs");
+  app.add_flag("--skip-world", skip_world, "Skip the multi-body World's costs");
   CLI11_PARSE(app, argc, argv);
 
   const kc::ContactOptions full;
@@ -857,6 +1000,7 @@ int main(int argc, char** argv) {
     print_costs(runs);
     if (costs_fifo) normal_priority();
   }
+  if (!skip_world) run_world(scenes.front(), cycles);
   if (!skip_loop) {
     std::printf("\nPart 2: the real-time loop (%u CPUs online)\n",
                 std::thread::hardware_concurrency());
