@@ -1,0 +1,90 @@
+// One held object against one fixed object, in real time (docs/HAPTICS.md, "One cycle"): a
+// simulated operator's hand holds a plate with a hole (its distance field: the haptic object, as
+// in the thesis) and presses it onto a fixed peg standing below (its pointshell). HapticCycle
+// runs on a HapticLoop thread at 1 kHz for half a second; the records go to this thread through a
+// TripleBuffer. Installed headers only (Kilohertz::scene for the procedural meshes).
+//
+// Units and placement: metres, seconds, newtons. `grasp_in_body` is where the hand holds the
+// plate, in the plate's body frame; the plate's body pose is the grasp frame moved by −grasp.
+// `fixed_pose` places the other object (world ← body).
+#include <khz/contact/field/mesh_distance_field.hpp>
+#include <khz/contact/pointshell/repulsion_pointshell.hpp>
+#include <khz/contact/tree/point_tree.hpp>
+#include <khz/haptic/cycle/haptic_cycle.hpp>
+#include <khz/haptic/device/simulated_operator.hpp>
+#include <khz/haptic/loop/haptic_loop.hpp>
+#include <khz/haptic/loop/triple_buffer.hpp>
+#include <khz/scene/procedural_shape.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+namespace kc = khz::contact;
+namespace kh = khz::haptic;
+
+int main() {
+  // The held plate (z in [−0.02, 0], body frame) and the fixed peg (z in [0, 0.08]).
+  kc::DistanceFieldOptions field_options;
+  field_options.cells = 64;
+  const kc::DistanceGrid held_field =
+      kc::signed_distance_field(khz::scene::procedural_shape("plate_with_hole"), field_options);
+  kc::RepulsionOptions repulsion;
+  repulsion.first_level_points = 64;
+  repulsion.levels = 3;
+  const kc::PointTree environment_tree(
+      kc::repulsion_pointshell(khz::scene::procedural_shape("peg"), field_options, repulsion));
+  // The peg stands 3 cm off the hole's axis, its top at z = 0.08; the plate is held at its top
+  // face's centre, starting 1 mm above the peg.
+  Eigen::Isometry3d fixed_pose = Eigen::Isometry3d::Identity();
+  fixed_pose.translation() = Eigen::Vector3d(0.03, 0.0, 0.0);
+  const Eigen::Vector3d grasp_in_body = Eigen::Vector3d::Zero();
+  kh::Pose start_pose;
+  start_pose.position = Eigen::Vector3d(0.0, 0.0, 0.101);
+
+  // The operator lowers the hand 4 mm in 0.3 s (3 mm into the peg), device frame = world frame
+  // moved to the start pose.
+  kh::Pose pressed;
+  pressed.position.z() = -0.004;
+  kh::SimulatedOperator device(kh::keyframe_target({{0.0, {}}, {0.3, pressed}, {0.5, pressed}}));
+  kh::WorkspaceMapping mapping;
+  mapping.offset.position = start_pose.position;
+  kh::SafeDevice safe(device, {}, mapping);  // clamps, watchdog, indexing
+  safe.open();
+
+  const kc::ContactOptions contact_options;  // k_C = 1000 N/m, L = 10
+  kh::PointshellFieldScene scene(environment_tree, held_field, contact_options, grasp_in_body,
+                                 fixed_pose);
+  kh::CouplingOptions coupling_options;   // k_VC, torque stiffness, α, limits, saturation
+  coupling_options.object_radius = 0.05;  // the held object's size (m), see below
+  coupling_options.max_rendered_force = device.capabilities().max_force;
+  kh::VirtualCoupling coupling(coupling_options, start_pose);
+  kh::HapticCycle cycle(safe, coupling, scene);
+
+  kh::TripleBuffer<kh::CycleRecord> records;  // haptic thread → this one, never blocking
+  const auto start = std::chrono::steady_clock::now();
+  const auto seconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  kh::HapticLoop loop({.rate_hz = 1000.0, .realtime_priority = true, .cpu = 0});
+  loop.start([&](const kh::CycleClock& c) {
+    const double now = seconds();
+    records.back() = cycle.run(now, now + c.period, seconds);  // the watchdog reads the same clock
+    records.publish();
+  });
+  for (int i = 0; i < 5; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    records.update();
+    const kh::CycleRecord& last = records.front();
+    std::printf("t = %.2f s: contact force z %6.3f N, rendered %6.3f N, %lld points\n", last.time,
+                last.contact.force.z(), last.rendered.force.z(),
+                static_cast<long long>(last.contact.statistics.points_in_contact));
+  }
+  loop.stop();
+  safe.close();
+  const kh::LoopStatistics statistics = loop.statistics();
+  std::printf("%lld cycles, work %.1f µs mean, %.1f µs p99, %lld deadline misses\n",
+              static_cast<long long>(statistics.cycles), statistics.mean_work, statistics.p99_work,
+              static_cast<long long>(statistics.deadline_misses));
+  for (const std::string& warning : loop.warnings()) std::printf("loop: %s\n", warning.c_str());
+}
