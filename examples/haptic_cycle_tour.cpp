@@ -7,14 +7,12 @@
 // Units and placement: metres, seconds, newtons. `grasp_in_body` is where the hand holds the
 // plate, in the plate's body frame; the plate's body pose is the grasp frame moved by −grasp.
 // `fixed_pose` places the other object (world ← body).
-#include <khz/contact/field/mesh_distance_field.hpp>
-#include <khz/contact/pointshell/repulsion_pointshell.hpp>
-#include <khz/contact/tree/point_tree.hpp>
+#include "peg_and_plate.hpp"
+
 #include <khz/haptic/cycle/haptic_cycle.hpp>
 #include <khz/haptic/device/simulated_operator.hpp>
 #include <khz/haptic/loop/haptic_loop.hpp>
 #include <khz/haptic/loop/triple_buffer.hpp>
-#include <khz/scene/procedural_shape.hpp>
 
 #include <chrono>
 #include <cstdio>
@@ -24,16 +22,10 @@ namespace kc = khz::contact;
 namespace kh = khz::haptic;
 
 int main() {
-  // The held plate (z in [−0.02, 0], body frame) and the fixed peg (z in [0, 0.08]).
-  kc::DistanceFieldOptions field_options;
-  field_options.cells = 64;
-  const kc::DistanceGrid held_field =
-      kc::signed_distance_field(khz::scene::procedural_shape("plate_with_hole"), field_options);
-  kc::RepulsionOptions repulsion;
-  repulsion.first_level_points = 64;
-  repulsion.levels = 3;
-  const kc::PointTree environment_tree(
-      kc::repulsion_pointshell(khz::scene::procedural_shape("peg"), field_options, repulsion));
+  // The held plate (z in [−0.02, 0], body frame) and the fixed peg (z in [0, 0.08]): any field
+  // and pointshell (docs/CONTACT.md builds them from your meshes).
+  const kc::DistanceGrid held_field = khz::examples::plate_field();
+  const kc::PointTree environment_tree = khz::examples::peg_tree();
   // The peg stands 3 cm off the hole's axis, its top at z = 0.08; the plate is held at its top
   // face's centre, starting 1 mm above the peg.
   Eigen::Isometry3d fixed_pose = Eigen::Isometry3d::Identity();

@@ -7,13 +7,11 @@
 // Units and placement: metres, seconds, newtons. Meshes are in their body frame; Body::pose
 // places a body in the world. A hand holds its body at Hand::grasp_in_body (body frame); the
 // body's pose then follows the hand's coupling: pose = grasp frame · translation(−grasp_in_body).
-#include <khz/contact/field/mesh_distance_field.hpp>
-#include <khz/contact/pointshell/repulsion_pointshell.hpp>
-#include <khz/contact/tree/point_tree.hpp>
+#include "peg_and_plate.hpp"
+
 #include <khz/haptic/device/safe_device.hpp>
 #include <khz/haptic/device/simulated_operator.hpp>
 #include <khz/haptic/world/world.hpp>
-#include <khz/scene/procedural_shape.hpp>
 
 #include <cstdio>
 #include <memory>
@@ -48,15 +46,8 @@ struct PressingHand {
 int main() {
   // The plate (z in [−0.02, 0], a 20.8 mm hole at the centre) as a distance field; a 2 cm square
   // peg (z in [0, 0.08]) as a pointshell. Both pegs share one pointshell: bodies borrow theirs.
-  kc::DistanceFieldOptions field_options;
-  field_options.cells = 64;
-  const kc::DistanceGrid plate_field =
-      kc::signed_distance_field(khz::scene::procedural_shape("plate_with_hole"), field_options);
-  kc::RepulsionOptions repulsion;
-  repulsion.first_level_points = 64;
-  repulsion.levels = 3;
-  const kc::PointTree peg_tree(
-      kc::repulsion_pointshell(khz::scene::procedural_shape("peg"), field_options, repulsion));
+  const kc::DistanceGrid plate_field = khz::examples::plate_field();
+  const kc::PointTree peg_tree = khz::examples::peg_tree();
 
   std::vector<kh::Body> bodies(3);
   bodies[0].name = "plate";

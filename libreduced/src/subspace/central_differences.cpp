@@ -7,7 +7,6 @@
 
 #include <Eigen/Eigenvalues>
 
-#include <cassert>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -51,13 +50,11 @@ ReducedCentralDifferences::ReducedCentralDifferences(ReducedCentralDifferences&&
 ReducedCentralDifferences& ReducedCentralDifferences::operator=(
     ReducedCentralDifferences&&) noexcept = default;
 
-ReducedStepReport ReducedCentralDifferences::step(
+ReducedStepReport ReducedCentralDifferences::advance(
     const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
   Data& d = *m_data;
   detail::ReducedState& s = d.state;
   ReducedStepReport report;
-  assert(external_force.size() == s.q.size() && "external force must have r entries");
-  if (external_force.size() != s.q.size() || !external_force.allFinite()) return report;
 
   const double h = d.options.time_step;
   const double alpha = d.options.mass_damping;

@@ -3,6 +3,7 @@
 
 #include "subspace/reduced_state.hpp"
 
+#include <cassert>
 #include <utility>
 
 namespace khz::reduced {
@@ -16,6 +17,13 @@ ReducedIntegrator::ReducedIntegrator(ReducedForceModel& forces, const Eigen::Mat
 ReducedIntegrator::~ReducedIntegrator() = default;
 ReducedIntegrator::ReducedIntegrator(ReducedIntegrator&&) noexcept = default;
 ReducedIntegrator& ReducedIntegrator::operator=(ReducedIntegrator&&) noexcept = default;
+
+ReducedStepReport ReducedIntegrator::step(
+    const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
+  assert(external_force.size() == m_state->q.size() && "external force must have r entries");
+  if (external_force.size() != m_state->q.size() || !external_force.allFinite()) return {};
+  return advance(external_force);
+}
 
 Eigen::Index ReducedIntegrator::dimension() const noexcept { return m_state->q.size(); }
 const Eigen::VectorXd& ReducedIntegrator::coordinates() const noexcept { return m_state->q; }

@@ -5,7 +5,6 @@
 #include "subspace/reduced_state.hpp"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <string>
 
@@ -90,13 +89,11 @@ ReducedNewmark::~ReducedNewmark() = default;
 ReducedNewmark::ReducedNewmark(ReducedNewmark&&) noexcept = default;
 ReducedNewmark& ReducedNewmark::operator=(ReducedNewmark&&) noexcept = default;
 
-ReducedStepReport ReducedNewmark::step(
+ReducedStepReport ReducedNewmark::advance(
     const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
   Data& d = *m_data;
   detail::ReducedState& s = d.state;
   ReducedStepReport report;
-  assert(external_force.size() == s.q.size() && "external force must have r entries");
-  if (external_force.size() != s.q.size() || !external_force.allFinite()) return report;
 
   const NewmarkConstants& c = d.constants;
   const NewmarkParameters& p = d.options.newmark;

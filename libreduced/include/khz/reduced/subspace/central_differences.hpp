@@ -50,14 +50,15 @@ class KHZ_REDUCED_API ReducedCentralDifferences final : public ReducedIntegrator
   ReducedCentralDifferences(ReducedCentralDifferences&&) noexcept;
   ReducedCentralDifferences& operator=(ReducedCentralDifferences&&) noexcept;
 
-  /// One explicit step; see ReducedIntegrator::step() for the contract. Status converged on
-  /// success (iterations and residual_norm are 0); an unstable step size ends as failed once the
-  /// growing state overflows.
-  ReducedStepReport step(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept override;
-
   const ReducedCentralDifferencesOptions& options() const noexcept;
 
  private:
+  /// One explicit step (ReducedIntegrator::step() has the contract). Status converged on
+  /// success (iterations and residual_norm are 0); an unstable step size ends as failed once the
+  /// growing state overflows.
+  ReducedStepReport advance(
+      const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept override;
+
   struct Data;
   std::unique_ptr<Data> m_data;
 };

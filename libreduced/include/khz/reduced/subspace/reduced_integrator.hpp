@@ -46,9 +46,9 @@ class KHZ_REDUCED_API ReducedIntegrator {
   /// force f, N·m per unit q) held over the step. Never throws, never allocates; a failure
   /// (non-finite external force, forces, stiffness, solution or new state; a wrong-sized force,
   /// which also asserts in debug builds) is reported as ReducedStepStatus::failed and leaves the
-  /// state exactly as it was.
-  virtual ReducedStepReport step(
-      const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept = 0;
+  /// state exactly as it was. The scheme's own step (advance()) sees only forces that passed
+  /// these checks.
+  ReducedStepReport step(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept;
 
   Eigen::Index dimension() const noexcept;               ///< r.
   const Eigen::VectorXd& coordinates() const noexcept;   ///< q, r entries.
@@ -95,6 +95,10 @@ class KHZ_REDUCED_API ReducedIntegrator {
   detail::ReducedState& shared_state() noexcept { return *m_state; }
 
  private:
+  /// The scheme's step (the derived class's): as step(), with a finite force of r entries.
+  virtual ReducedStepReport advance(
+      const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept = 0;
+
   std::unique_ptr<detail::ReducedState> m_state;
 };
 

@@ -78,13 +78,14 @@ class KHZ_REDUCED_API ReducedNewmark final : public ReducedIntegrator {
   ReducedNewmark(ReducedNewmark&&) noexcept;
   ReducedNewmark& operator=(ReducedNewmark&&) noexcept;
 
-  /// One step as the class comment describes; see ReducedIntegrator::step() for the contract.
-  /// Status iteration_limit when max_newton_iterations ran without meeting the tolerance.
-  ReducedStepReport step(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept override;
-
   const ReducedNewmarkOptions& options() const noexcept;
 
  private:
+  /// One step as the class comment describes (ReducedIntegrator::step() has the contract).
+  /// Status iteration_limit when max_newton_iterations ran without meeting the tolerance.
+  ReducedStepReport advance(
+      const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept override;
+
   struct Data;
   std::unique_ptr<Data> m_data;
 };
