@@ -4,6 +4,7 @@
 #include "hard_case_fixtures.hpp"
 
 #include <khz/contact/field/implicit_shapes.hpp>
+#include <khz/contact/query/contact_query.hpp>
 #include <khz/haptic/cycle/contact_scene.hpp>
 #include <khz/haptic/cycle/haptic_cycle.hpp>
 #include <khz/haptic/device/simulated_operator.hpp>
@@ -189,6 +190,45 @@ TEST(World, ACycleAllocatesNothing) {
   for (int i = 300; i < 400; ++i) world.cycle(i * 1e-3, (i + 1) * 1e-3, [&] { return i * 1e-3; });
   EXPECT_EQ(test::allocation_count, 0u);
   EXPECT_GT(world.records()[0].contact.statistics.points_in_contact, 0);
+}
+
+// probe() queries at the grasp frames it is given and nothing else: against a separate query of
+// the same pair at the same frames (the torque about the probed grasp point), with no device
+// read, no coupling or body moved for good, no allocation; a wrong count of grasps is refused.
+TEST(World, ProbeQueriesAtTheGivenGraspsAndStepsNothing) {
+  const Eigen::Vector3d start(0.0, 0.0, ball_radius + 0.01);
+  ScriptedHand scripted(start, start);
+  Hand hand;
+  hand.device = &scripted.safe;
+  hand.coupling = coupling_options();
+  World world(ball_and_floor(start), {hand}, contact_options());
+  world.cycle(0.0, 1e-3, [] { return 0.0; });
+  const Pose coupled = world.coupling(0).simulation_pose();
+
+  Pose pressed = at(Eigen::Vector3d(0.01, 0.0, ball_radius - 0.004));
+  pressed.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()));
+  const Pose grasps[] = {pressed};
+  test::allocation_count = 0;
+  ASSERT_TRUE(world.probe(grasps));
+  EXPECT_EQ(test::allocation_count, 0u);
+
+  contact::ContactWorkspace workspace(ball(), contact_options());
+  contact::ContactFrames frames;
+  frames.pointshell.linear() = pressed.orientation.toRotationMatrix();
+  frames.pointshell.translation() = pressed.position;  // the grasp point is the ball's centre
+  frames.grasp_point = pressed.position;
+  ASSERT_TRUE(contact::query_contact(ball(), floor_shape(), frames, workspace));
+  const contact::ContactResult& expected = workspace.result();
+  ASSERT_GT(expected.statistics.points_in_contact, 0);
+  const contact::ContactWrench& probed = world.wrench(0);
+  EXPECT_LE((probed.force - expected.force).norm(), 1e-12 * expected.force.norm());
+  EXPECT_LE((probed.torque - expected.torque).norm(), 1e-12 * expected.force.norm());
+  EXPECT_EQ(probed.statistics.points_in_contact, expected.statistics.points_in_contact);
+  EXPECT_TRUE(world.bodies()[0].pose.translation().isApprox(pressed.position));
+
+  EXPECT_EQ(world.coupling(0).simulation_pose().position, coupled.position);
+  const Pose two[] = {pressed, pressed};
+  EXPECT_FALSE(world.probe(two));
 }
 
 TEST(World, APairFilterLeavesPairsOut) {
