@@ -152,6 +152,14 @@ SceneRuntime::SceneRuntime(const PreparedScene& prepared, std::vector<DeviceDesc
   if (scene.duration > 0.0) d.natural_duration = scene.duration;
   d.world =
       std::make_unique<haptic::World>(std::move(bodies), std::move(world_hands), scene.contact);
+  // Each coupling starts at its grasp frame as the scene writes it (the pose's own quaternion),
+  // not as the World recovers it from the body's rotation matrix, which differs by round-off.
+  for (std::size_t h = 0; h < hands; ++h) {
+    const HapticDescription& hand = scene.haptic[h];
+    haptic::Pose start = scene.objects[static_cast<std::size_t>(hand.object_index)].pose;
+    start.position += start.orientation * d.grasps[h];
+    d.world->coupling(static_cast<int>(h)).reset(start);
+  }
 }
 
 SceneRuntime::~SceneRuntime() = default;
