@@ -3,7 +3,6 @@
 // loop rate; this thread draws with OpenGL from the snapshots the loop hands over through a
 // haptic::TripleBuffer and moves the mouse device from the cursor. Neither thread waits for the
 // other.
-#include "scene_snapshot.hpp"
 #include "scene_view.hpp"
 #include "viewer_window.hpp"
 
@@ -18,6 +17,7 @@
 #include <khz/viewer/cursor_drag.hpp>
 #include <khz/viewer/mouse_device.hpp>
 #include <khz/viewer/mouse_placement.hpp>
+#include <khz/viewer/scene_snapshot.hpp>
 
 #include <CLI/CLI.hpp>
 

@@ -58,6 +58,7 @@ struct SceneView::Body {
 SceneView::SceneView(const scene::SceneRuntime& runtime, const SnapshotLayout& layout,
                      const run::SceneFraming& framing)
     : m_layout(layout),
+      m_points(runtime, layout),
       m_hand_of(runtime.description().objects.size(), -1),
       m_radius(framing.radius),
       m_reference_force(run::arrow_reference_force(runtime.description())) {
@@ -111,15 +112,45 @@ void SceneView::draw(const SceneSnapshot& snapshot, const render::Camera& camera
   glLoadMatrixd(view(camera).data());
 
   glEnable(GL_LIGHTING);
+  // Surfaces a little behind their depth, so that points on them are not hidden by them.
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1.0f, 1.0f);
   for (std::size_t i = 0; i < m_bodies.size(); ++i) {
     const int hand = m_hand_of[i];
     draw_body(*m_bodies[i],
               hand >= 0 ? snapshot.held_poses[static_cast<std::size_t>(hand)] : m_bodies[i]->pose,
               m_layout.coordinates(snapshot, static_cast<int>(i)));
   }
+  glDisable(GL_POLYGON_OFFSET_FILL);
   glDisable(GL_LIGHTING);
 
-  // Drawn over the surfaces: each hand's coupling spring and contact force.
+  draw_points(snapshot);
+  draw_hands(snapshot);
+}
+
+void SceneView::draw_points(const SceneSnapshot& snapshot) {
+  // As the frame pictures: points looked at are depth-tested; points in contact lie inside the
+  // other object, so they are drawn over it.
+  const std::vector<run::PointPicture>& pictures = m_points.classify(snapshot);
+  for (const run::PointState state : {run::PointState::traversed, run::PointState::in_contact}) {
+    const bool touching = state == run::PointState::in_contact;
+    if (touching) glDisable(GL_DEPTH_TEST);
+    glPointSize(touching ? 5.0f : 3.0f);
+    set_color(touching ? m_colors.contact_color : m_colors.traversed_color);
+    glBegin(GL_POINTS);
+    for (const run::PointPicture& picture : pictures) {
+      for (std::size_t s = 0; s < picture.states.size(); ++s) {
+        if (picture.states[s] == state) {
+          glVertex3dv(picture.positions.row(static_cast<Eigen::Index>(s)).data());
+        }
+      }
+    }
+    glEnd();
+  }
+}
+
+void SceneView::draw_hands(const SceneSnapshot& snapshot) const {
+  // Drawn over everything: each hand's coupling spring and contact force.
   glDisable(GL_DEPTH_TEST);
   for (std::size_t h = 0; h < m_grasps_in_body.size(); ++h) {
     const haptic::CycleRecord& record = snapshot.records[h];
