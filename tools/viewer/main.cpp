@@ -187,7 +187,8 @@ int view(const ViewerRequest& request) {
 int main(int argc, char** argv) {
   CLI::App app(
       "khz_viewer: run a scene interactively, the mouse as the manipulandum (left drag: move "
-      "in the plane facing you; scroll: move along the view; Esc: quit)",
+      "in the plane facing you; wheel: move along the view; right drag: orbit the camera; "
+      "Shift+wheel or +/-: zoom; R: reset the view; Esc: quit)",
       "khz_viewer");
   khz::viewer::ViewerRequest request;
   app.add_option("scene", request.scene, "Scene file (docs/SCENES.md)")
