@@ -1,9 +1,11 @@
 #include "scene_view.hpp"
 
 #include <khz/reduced/subspace/vertex_normals.hpp>
+#include <khz/viewer/force_arrow.hpp>
 
 #include <GL/gl.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace khz::viewer {
@@ -40,6 +42,29 @@ Eigen::Matrix4d view(const render::Camera& camera) {
 void line(const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
   glVertex3dv(from.data());
   glVertex3dv(to.data());
+}
+
+/// An arrow from `from` to `to`: a line and a flat head facing the camera, a quarter of the
+/// arrow long (at most `head` m). Nothing for an arrow too short to see.
+void arrow(const Eigen::Vector3d& from, const Eigen::Vector3d& to, const render::Camera& camera,
+           double head, double shortest) {
+  const Eigen::Vector3d shaft = to - from;
+  const double length = shaft.norm();
+  if (!(length > shortest)) return;
+  const Eigen::Vector3d along = shaft / length;
+  Eigen::Vector3d across = along.cross(camera.forward());
+  across = across.norm() > 1e-6 ? across.normalized() : camera.right();  // along the view: any
+  const double h = std::min(0.25 * length, head);
+  const Eigen::Vector3d base = to - h * along;
+  glBegin(GL_LINES);
+  line(from, base);
+  glEnd();
+  glBegin(GL_TRIANGLES);
+  for (const Eigen::Vector3d& corner :
+       {to, Eigen::Vector3d(base + 0.4 * h * across), Eigen::Vector3d(base - 0.4 * h * across)}) {
+    glVertex3dv(corner.data());
+  }
+  glEnd();
 }
 
 }  // namespace
@@ -125,7 +150,7 @@ void SceneView::draw(const SceneSnapshot& snapshot, const render::Camera& camera
   glDisable(GL_LIGHTING);
 
   draw_points(snapshot);
-  draw_hands(snapshot);
+  draw_hands(snapshot, camera);
 }
 
 void SceneView::draw_points(const SceneSnapshot& snapshot) {
@@ -149,9 +174,10 @@ void SceneView::draw_points(const SceneSnapshot& snapshot) {
   }
 }
 
-void SceneView::draw_hands(const SceneSnapshot& snapshot) const {
+void SceneView::draw_hands(const SceneSnapshot& snapshot, const render::Camera& camera) const {
   // Drawn over everything: each hand's coupling spring and contact force.
   glDisable(GL_DEPTH_TEST);
+  const double extent = view_half_extent(camera, camera.target());
   for (std::size_t h = 0; h < m_grasps_in_body.size(); ++h) {
     const haptic::CycleRecord& record = snapshot.records[h];
     const Eigen::Vector3d grasp = snapshot.held_poses[h] * m_grasps_in_body[h];
@@ -167,9 +193,13 @@ void SceneView::draw_hands(const SceneSnapshot& snapshot) const {
     glEnd();
     glLineWidth(3.0f);
     set_color(m_colors.force_color);
-    glBegin(GL_LINES);
-    line(grasp, grasp + record.contact.force * (m_radius / m_reference_force));
-    glEnd();
+    const Eigen::Vector3d& force = record.contact.force;
+    const double magnitude = force.norm();
+    if (!std::isfinite(magnitude) || !(magnitude > 0.0)) continue;
+    const double room = room_in_view(camera, grasp, force / magnitude, arrow_margin);
+    const ArrowScale scale{m_reference_force, m_radius,
+                           std::min(arrow_view_fraction * extent, room)};
+    arrow(grasp, grasp + scale.arrow(force), camera, 0.08 * extent, 1e-3 * extent);
   }
 }
 
