@@ -169,10 +169,6 @@ Eigen::Vector2d ViewerWindow::cursor() const noexcept {
   return position;
 }
 
-void ViewerWindow::set_title(const std::string& title) noexcept {
-  glfwSetWindowTitle(m_window, title.c_str());
-}
-
 render::Image ViewerWindow::read_frame() const {
   const Eigen::Vector2i size = framebuffer_size();
   const auto row_bytes = static_cast<std::size_t>(3 * size.x());

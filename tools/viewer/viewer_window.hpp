@@ -46,7 +46,6 @@ class ViewerWindow {
   const render::Camera& camera() const noexcept { return *m_camera; }
   /// The framebuffer's size (pixels; differs from the window's on high-density screens).
   Eigen::Vector2i framebuffer_size() const noexcept;
-  void set_title(const std::string& title) noexcept;
   /// The frame drawn but not yet shown (the back buffer) as an image.
   render::Image read_frame() const;
   /// Shows the frame drawn and handles the events that came in meanwhile.
