@@ -19,6 +19,7 @@
 #include <khz/viewer/mouse_device.hpp>
 #include <khz/viewer/mouse_placement.hpp>
 #include <khz/viewer/overlay_text.hpp>
+#include <khz/viewer/preparation_messages.hpp>
 #include <khz/viewer/scene_snapshot.hpp>
 
 #include <CLI/CLI.hpp>
@@ -47,7 +48,7 @@ struct ViewerRequest {
 };
 
 /// The scene prepared through the product cache (--cache, or scene::default_cache_directory()),
-/// one line on stderr per product being made.
+/// one line on stderr per product (PreparationMessages: "cached" or "preparing") and a summary.
 scene::PreparedScene prepare(const scene::SceneDescription& description,
                              const ViewerRequest& request) {
   const std::filesystem::path directory = request.cache.empty()
@@ -58,15 +59,16 @@ scene::PreparedScene prepare(const scene::SceneDescription& description,
   }
   scene::ProductCache cache(directory);
   scene::PrepareOptions options;
-  std::string reported;
+  PreparationMessages messages;
   options.progress = [&](const std::string& object, scene::PrepareStep step,
-                         const reduced::Progress&) {
-    const std::string what = object + " " + std::string(scene::step_name(step));
-    if (what != reported) std::cerr << "khz_viewer: preparing " << what << '\n';
-    reported = what;
+                         const reduced::Progress& progress) {
+    const std::string line = messages.line(object, step, progress);
+    if (!line.empty()) std::cerr << "khz_viewer: " << line << '\n';
     return true;
   };
-  return scene::prepare_scene(description, cache, options);
+  scene::PreparedScene prepared = scene::prepare_scene(description, cache, options);
+  std::cerr << "khz_viewer: " << preparation_summary(prepared) << '\n';
+  return prepared;
 }
 
 /// What the overlay calls each hand: its object, and what moves it.
