@@ -3,7 +3,7 @@
 // loop rate; this thread draws with OpenGL from the snapshots the loop hands over through a
 // haptic::TripleBuffer and moves the mouse device from the cursor. Neither thread waits for the
 // other.
-#include "scene_snapshot.hpp"
+#include "overlay_view.hpp"
 #include "scene_view.hpp"
 #include "viewer_window.hpp"
 
@@ -18,6 +18,9 @@
 #include <khz/viewer/cursor_drag.hpp>
 #include <khz/viewer/mouse_device.hpp>
 #include <khz/viewer/mouse_placement.hpp>
+#include <khz/viewer/overlay_text.hpp>
+#include <khz/viewer/preparation_messages.hpp>
+#include <khz/viewer/scene_snapshot.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -27,6 +30,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -44,7 +48,7 @@ struct ViewerRequest {
 };
 
 /// The scene prepared through the product cache (--cache, or scene::default_cache_directory()),
-/// one line on stderr per product being made.
+/// one line on stderr per product (PreparationMessages: "cached" or "preparing") and a summary.
 scene::PreparedScene prepare(const scene::SceneDescription& description,
                              const ViewerRequest& request) {
   const std::filesystem::path directory = request.cache.empty()
@@ -55,25 +59,27 @@ scene::PreparedScene prepare(const scene::SceneDescription& description,
   }
   scene::ProductCache cache(directory);
   scene::PrepareOptions options;
-  std::string reported;
+  PreparationMessages messages;
   options.progress = [&](const std::string& object, scene::PrepareStep step,
-                         const reduced::Progress&) {
-    const std::string what = object + " " + std::string(scene::step_name(step));
-    if (what != reported) std::cerr << "khz_viewer: preparing " << what << '\n';
-    reported = what;
+                         const reduced::Progress& progress) {
+    const std::string line = messages.line(object, step, progress);
+    if (!line.empty()) std::cerr << "khz_viewer: " << line << '\n';
     return true;
   };
-  return scene::prepare_scene(description, cache, options);
+  scene::PreparedScene prepared = scene::prepare_scene(description, cache, options);
+  std::cerr << "khz_viewer: " << preparation_summary(prepared) << '\n';
+  return prepared;
 }
 
-/// The window's title: the scene, the loop's rate and cost, the contact.
-std::string title(const std::string& scene, double cycles_per_second, double microseconds,
-                  std::int64_t points_in_contact) {
-  char text[160];
-  std::snprintf(text, sizeof text, "%s — %.0f cycles/s, %.1f µs/cycle, %lld points in contact",
-                scene.c_str(), cycles_per_second, microseconds,
-                static_cast<long long>(points_in_contact));
-  return text;
+/// What the overlay calls each hand: its object, and what moves it.
+std::vector<std::string> hand_names(const scene::SceneRuntime& runtime) {
+  std::vector<std::string> names;
+  for (int h = 0; h < runtime.hand_count(); ++h) {
+    names.push_back(
+        runtime.description().objects[static_cast<std::size_t>(runtime.held_object(h))].name +
+        (h == 0 ? ", mouse" : ", scene's device"));
+  }
+  return names;
 }
 
 /// A mouse has no mechanical limits: its workspace box (m, around the device origin) only
@@ -109,8 +115,11 @@ int view(const ViewerRequest& request) {
   CursorDrag drag(start.position, {framing.centre - reach, framing.centre + reach},
                   0.05 * framing.radius);
   ViewerWindow window(
-      name, request.width, request.height, framing, drag,
+      name + " - khz_viewer", request.width, request.height, framing, drag,
       [&](const Eigen::Vector3d& target) { mouse.set_position(device_position(mapping, target)); });
+  OverlayView overlay;
+  const std::vector<std::string> names = hand_names(runtime);
+  const std::vector<std::string> help = overlay_help();
 
   // The hand-off: the haptic thread fills back() and publishes, this one takes front().
   SceneSnapshot snapshot;
@@ -141,15 +150,24 @@ int view(const ViewerRequest& request) {
   const auto frame_period = std::chrono::duration_cast<Clock::duration>(
       std::chrono::duration<double>(1.0 / max_frame_rate));
   Clock::time_point next_frame = Clock::now();
-  Clock::time_point titled = next_frame;
-  std::int64_t titled_cycles = 0;
+  // The overlay's rates, measured over about half a second.
+  OverlayRates rates;
+  Clock::time_point measured = next_frame;
+  std::int64_t measured_cycles = 0;
+  int measured_frames = 0;
   for (int frames = 1;; ++frames) {
     // The last frame is drawn once quitting is asked for, so --screenshot saves what was seen.
     const bool last =
         window.closing() || !loop.running() || (request.frames > 0 && frames >= request.frames);
     snapshots.update();
+    const SceneSnapshot& shown = snapshots.front();
     const Eigen::Vector2i size = window.framebuffer_size();
-    scene_view.draw(snapshots.front(), window.camera(), size.x(), size.y());
+    scene_view.draw(shown, window.camera(), size.x(), size.y());
+    overlay.draw(
+        overlay_status(
+            rates, std::span(shown.records).first(static_cast<std::size_t>(layout.hand_count())),
+            names),
+        help, size.x(), size.y());
     if (last) {
       if (!request.screenshot.empty()) render::write_png(window.read_frame(), request.screenshot);
       break;
@@ -157,15 +175,15 @@ int view(const ViewerRequest& request) {
     window.show_frame();
 
     const Clock::time_point now = Clock::now();
-    if (seconds_between(titled, now) >= 0.5) {
+    if (seconds_between(measured, now) >= 0.5) {
       const haptic::LoopStatistics statistics = loop.statistics();
-      window.set_title(title(
-          name,
-          static_cast<double>(statistics.cycles - titled_cycles) / seconds_between(titled, now),
-          statistics.mean_work,
-          snapshots.front().records.front().contact.statistics.points_in_contact));
-      titled = now;
-      titled_cycles = statistics.cycles;
+      const double seconds = seconds_between(measured, now);
+      rates.cycles_per_second = static_cast<double>(statistics.cycles - measured_cycles) / seconds;
+      rates.microseconds_per_cycle = statistics.mean_work;
+      rates.frames_per_second = (frames - measured_frames) / seconds;
+      measured = now;
+      measured_cycles = statistics.cycles;
+      measured_frames = frames;
     }
     next_frame = std::max(next_frame + frame_period, now);
     std::this_thread::sleep_until(next_frame);
@@ -187,7 +205,8 @@ int view(const ViewerRequest& request) {
 int main(int argc, char** argv) {
   CLI::App app(
       "khz_viewer: run a scene interactively, the mouse as the manipulandum (left drag: move "
-      "in the plane facing you; scroll: move along the view; Esc: quit)",
+      "in the plane facing you; wheel: move along the view; right drag: orbit the camera; "
+      "Shift+wheel or +/-: zoom; R: reset the view; Esc: quit)",
       "khz_viewer");
   khz::viewer::ViewerRequest request;
   app.add_option("scene", request.scene, "Scene file (docs/SCENES.md)")

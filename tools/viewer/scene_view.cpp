@@ -1,9 +1,11 @@
 #include "scene_view.hpp"
 
 #include <khz/reduced/subspace/vertex_normals.hpp>
+#include <khz/viewer/force_arrow.hpp>
 
 #include <GL/gl.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace khz::viewer {
@@ -42,6 +44,29 @@ void line(const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
   glVertex3dv(to.data());
 }
 
+/// An arrow from `from` to `to`: a line and a flat head facing the camera, a quarter of the
+/// arrow long (at most `head` m). Nothing for an arrow too short to see.
+void arrow(const Eigen::Vector3d& from, const Eigen::Vector3d& to, const render::Camera& camera,
+           double head, double shortest) {
+  const Eigen::Vector3d shaft = to - from;
+  const double length = shaft.norm();
+  if (!(length > shortest)) return;
+  const Eigen::Vector3d along = shaft / length;
+  Eigen::Vector3d across = along.cross(camera.forward());
+  across = across.norm() > 1e-6 ? across.normalized() : camera.right();  // along the view: any
+  const double h = std::min(0.25 * length, head);
+  const Eigen::Vector3d base = to - h * along;
+  glBegin(GL_LINES);
+  line(from, base);
+  glEnd();
+  glBegin(GL_TRIANGLES);
+  for (const Eigen::Vector3d& corner :
+       {to, Eigen::Vector3d(base + 0.4 * h * across), Eigen::Vector3d(base - 0.4 * h * across)}) {
+    glVertex3dv(corner.data());
+  }
+  glEnd();
+}
+
 }  // namespace
 
 /// One object as drawn: its surface (body frame), how it deforms, its pose if it stays put.
@@ -58,6 +83,7 @@ struct SceneView::Body {
 SceneView::SceneView(const scene::SceneRuntime& runtime, const SnapshotLayout& layout,
                      const run::SceneFraming& framing)
     : m_layout(layout),
+      m_points(runtime, layout),
       m_hand_of(runtime.description().objects.size(), -1),
       m_radius(framing.radius),
       m_reference_force(run::arrow_reference_force(runtime.description())) {
@@ -111,16 +137,47 @@ void SceneView::draw(const SceneSnapshot& snapshot, const render::Camera& camera
   glLoadMatrixd(view(camera).data());
 
   glEnable(GL_LIGHTING);
+  // Surfaces a little behind their depth, so that points on them are not hidden by them.
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1.0f, 1.0f);
   for (std::size_t i = 0; i < m_bodies.size(); ++i) {
     const int hand = m_hand_of[i];
     draw_body(*m_bodies[i],
               hand >= 0 ? snapshot.held_poses[static_cast<std::size_t>(hand)] : m_bodies[i]->pose,
               m_layout.coordinates(snapshot, static_cast<int>(i)));
   }
+  glDisable(GL_POLYGON_OFFSET_FILL);
   glDisable(GL_LIGHTING);
 
-  // Drawn over the surfaces: each hand's coupling spring and contact force.
+  draw_points(snapshot);
+  draw_hands(snapshot, camera);
+}
+
+void SceneView::draw_points(const SceneSnapshot& snapshot) {
+  // As the frame pictures: points looked at are depth-tested; points in contact lie inside the
+  // other object, so they are drawn over it.
+  const std::vector<run::PointPicture>& pictures = m_points.classify(snapshot);
+  for (const run::PointState state : {run::PointState::traversed, run::PointState::in_contact}) {
+    const bool touching = state == run::PointState::in_contact;
+    if (touching) glDisable(GL_DEPTH_TEST);
+    glPointSize(touching ? 5.0f : 3.0f);
+    set_color(touching ? m_colors.contact_color : m_colors.traversed_color);
+    glBegin(GL_POINTS);
+    for (const run::PointPicture& picture : pictures) {
+      for (std::size_t s = 0; s < picture.states.size(); ++s) {
+        if (picture.states[s] == state) {
+          glVertex3dv(picture.positions.row(static_cast<Eigen::Index>(s)).data());
+        }
+      }
+    }
+    glEnd();
+  }
+}
+
+void SceneView::draw_hands(const SceneSnapshot& snapshot, const render::Camera& camera) const {
+  // Drawn over everything: each hand's coupling spring and contact force.
   glDisable(GL_DEPTH_TEST);
+  const double extent = view_half_extent(camera, camera.target());
   for (std::size_t h = 0; h < m_grasps_in_body.size(); ++h) {
     const haptic::CycleRecord& record = snapshot.records[h];
     const Eigen::Vector3d grasp = snapshot.held_poses[h] * m_grasps_in_body[h];
@@ -136,9 +193,13 @@ void SceneView::draw(const SceneSnapshot& snapshot, const render::Camera& camera
     glEnd();
     glLineWidth(3.0f);
     set_color(m_colors.force_color);
-    glBegin(GL_LINES);
-    line(grasp, grasp + record.contact.force * (m_radius / m_reference_force));
-    glEnd();
+    const Eigen::Vector3d& force = record.contact.force;
+    const double magnitude = force.norm();
+    if (!std::isfinite(magnitude) || !(magnitude > 0.0)) continue;
+    const double room = room_in_view(camera, grasp, force / magnitude, arrow_margin);
+    const ArrowScale scale{m_reference_force, m_radius,
+                           std::min(arrow_view_fraction * extent, room)};
+    arrow(grasp, grasp + scale.arrow(force), camera, 0.08 * extent, 1e-3 * extent);
   }
 }
 

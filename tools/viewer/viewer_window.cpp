@@ -7,6 +7,7 @@
 #include <GL/gl.h>
 #include <GLFW/glfw3.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <utility>
@@ -24,7 +25,9 @@ void report_glfw_error(int code, const char* description) {
 ViewerWindow::ViewerWindow(const std::string& title, int width, int height,
                            const run::SceneFraming& framing, CursorDrag& drag,
                            std::function<void(const Eigen::Vector3d&)> on_target)
-    : m_framing(framing), m_drag(drag), m_on_target(std::move(on_target)) {
+    : m_orbit(framing, run::FrameOptions().view_direction, run::FrameOptions().up),
+      m_drag(drag),
+      m_on_target(std::move(on_target)) {
   if (width < 16 || height < 16) throw reduced::Error("the window needs at least 16×16 pixels");
   glfwSetErrorCallback(report_glfw_error);
   if (glfwInit() != GLFW_TRUE) {
@@ -42,31 +45,29 @@ ViewerWindow::ViewerWindow(const std::string& title, int width, int height,
   glfwMakeContextCurrent(m_window);
   glfwSwapInterval(1);
   glfwSetWindowUserPointer(m_window, this);
-  glfwGetWindowSize(m_window, &width, &height);
-  fit_camera(width, height);
+  glfwGetWindowSize(m_window, &m_size.x(), &m_size.y());
+  m_camera.emplace(m_orbit.camera(std::max(m_size.x(), 1), std::max(m_size.y(), 1)));
 
   // GLFW calls these from show_frame(), on this thread; none of them throws.
-  glfwSetWindowSizeCallback(m_window,
-                            [](GLFWwindow* window, int w, int h) { of(window).fit_camera(w, h); });
+  glfwSetWindowSizeCallback(m_window, [](GLFWwindow* window, int w, int h) {
+    ViewerWindow& self = of(window);
+    self.m_size = {w, h};
+    self.refit_camera();
+  });
   glfwSetKeyCallback(m_window, [](GLFWwindow* window, int key, int, int action, int) {
-    if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS) glfwSetWindowShouldClose(window, GLFW_TRUE);
+    of(window).on_key(key, action);
+  });
+  glfwSetCharCallback(m_window, [](GLFWwindow* window, unsigned int character) {
+    of(window).on_character(character);
   });
   glfwSetMouseButtonCallback(m_window, [](GLFWwindow* window, int button, int action, int) {
-    ViewerWindow& self = of(window);
-    if (button != GLFW_MOUSE_BUTTON_LEFT) return;
-    if (action == GLFW_PRESS) self.m_drag.press(self.camera(), self.cursor());
-    if (action == GLFW_RELEASE) self.m_drag.release();
+    of(window).on_button(button, action);
   });
   glfwSetCursorPosCallback(m_window, [](GLFWwindow* window, double x, double y) {
-    ViewerWindow& self = of(window);
-    if (!self.m_drag.dragging()) return;
-    self.m_drag.move(self.camera(), {x, y});
-    self.target_moved();
+    of(window).on_cursor({x, y});
   });
-  glfwSetScrollCallback(m_window, [](GLFWwindow* window, double, double notches) {
-    ViewerWindow& self = of(window);
-    self.m_drag.scroll(self.camera(), notches);
-    self.target_moved();
+  glfwSetScrollCallback(m_window, [](GLFWwindow* window, double sideways, double notches) {
+    of(window).on_scroll(sideways, notches);
   });
 }
 
@@ -79,10 +80,79 @@ ViewerWindow& ViewerWindow::of(GLFWwindow* window) noexcept {
   return *static_cast<ViewerWindow*>(glfwGetWindowUserPointer(window));
 }
 
-void ViewerWindow::fit_camera(int width, int height) {
-  if (width < 1 || height < 1) return;  // minimized: keep the last camera
-  const run::FrameOptions defaults;
-  m_camera.emplace(m_framing.camera(defaults.view_direction, defaults.up, width, height));
+void ViewerWindow::refit_camera() noexcept {
+  if (m_size.x() < 1 || m_size.y() < 1) return;  // minimized: keep the last camera
+  try {
+    m_camera.emplace(m_orbit.camera(m_size.x(), m_size.y()));
+  } catch (const reduced::Error&) {
+    // A size render::Camera refuses (beyond Image::max_size): keep the last camera.
+  }
+}
+
+void ViewerWindow::on_key(int key, int action) noexcept {
+  if (action != GLFW_PRESS) return;
+  if (key == GLFW_KEY_ESCAPE) glfwSetWindowShouldClose(m_window, GLFW_TRUE);
+  if (key == GLFW_KEY_HOME) {
+    m_orbit.reset();
+    refit_camera();
+  }
+}
+
+void ViewerWindow::on_character(unsigned int character) noexcept {
+  // Characters rather than key codes, so that + and - are found on any keyboard layout (the
+  // keypad's too); a held key repeats.
+  switch (character) {
+    case '+':
+    case '=':  // + without Shift on many layouts
+      m_orbit.zoom(1.0);
+      break;
+    case '-':
+      m_orbit.zoom(-1.0);
+      break;
+    case 'r':
+    case 'R':
+      m_orbit.reset();
+      break;
+    default:
+      return;
+  }
+  refit_camera();
+}
+
+void ViewerWindow::on_button(int button, int action) noexcept {
+  if (button == GLFW_MOUSE_BUTTON_LEFT) {
+    if (action == GLFW_PRESS) m_drag.press(camera(), cursor());
+    if (action == GLFW_RELEASE) m_drag.release();
+  }
+  if (button == GLFW_MOUSE_BUTTON_RIGHT) {
+    m_orbiting = action == GLFW_PRESS;
+    m_last_cursor = cursor();
+  }
+}
+
+void ViewerWindow::on_cursor(const Eigen::Vector2d& position) noexcept {
+  if (m_orbiting) {
+    m_orbit.orbit(position - m_last_cursor);
+    m_last_cursor = position;
+    refit_camera();
+  }
+  if (m_drag.dragging()) {
+    m_drag.move(camera(), position);
+    target_moved();
+  }
+}
+
+void ViewerWindow::on_scroll(double sideways, double notches) noexcept {
+  const bool shift = glfwGetKey(m_window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
+                     glfwGetKey(m_window, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+  if (shift) {
+    // Some systems turn Shift + wheel into sideways scrolling.
+    m_orbit.zoom(notches != 0.0 ? notches : sideways);
+    refit_camera();
+    return;
+  }
+  m_drag.scroll(camera(), notches);
+  target_moved();
 }
 
 bool ViewerWindow::closing() const noexcept { return glfwWindowShouldClose(m_window) != 0; }
@@ -97,10 +167,6 @@ Eigen::Vector2d ViewerWindow::cursor() const noexcept {
   Eigen::Vector2d position;
   glfwGetCursorPos(m_window, &position.x(), &position.y());
   return position;
-}
-
-void ViewerWindow::set_title(const std::string& title) noexcept {
-  glfwSetWindowTitle(m_window, title.c_str());
 }
 
 render::Image ViewerWindow::read_frame() const {

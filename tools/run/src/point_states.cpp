@@ -1,8 +1,10 @@
+#include <khz/reduced/errors.hpp>
 #include <khz/run/point_states.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <type_traits>
 #include <variant>
 
@@ -14,6 +16,15 @@ std::int64_t PointPicture::count(PointState state) const noexcept {
 
 PointPicture classify_points(const haptic::Body& pointshell, const haptic::Body& field,
                              int deepest_level) {
+  if (pointshell.integrator == nullptr) {
+    return classify_points(pointshell, Eigen::VectorXd(), field, deepest_level);
+  }
+  return classify_points(pointshell, pointshell.integrator->coordinates(), field, deepest_level);
+}
+
+PointPicture classify_points(const haptic::Body& pointshell,
+                             const Eigen::Ref<const Eigen::VectorXd>& coordinates,
+                             const haptic::Body& field, int deepest_level) {
   const auto* deformable = std::get_if<const contact::DeformablePointTree*>(&pointshell.pointshell);
   const contact::PointTree& tree =
       deformable != nullptr ? (*deformable)->tree()
@@ -25,7 +36,12 @@ PointPicture classify_points(const haptic::Body& pointshell, const haptic::Body&
 
   Eigen::VectorXd q, abs_q;
   if (deformable != nullptr) {
-    q = pointshell.integrator->coordinates();
+    if (coordinates.size() != (*deformable)->dimension()) {
+      throw reduced::Error("classify_points: the deformable pointshell has r = " +
+                           std::to_string((*deformable)->dimension()) + " but q has " +
+                           std::to_string(coordinates.size()) + " entries");
+    }
+    q = coordinates;
     abs_q = q.cwiseAbs();
   }
   picture.positions.resize(points, 3);

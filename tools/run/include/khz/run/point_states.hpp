@@ -5,6 +5,8 @@
 #include <khz/haptic/world/body.hpp>
 #include <khz/reduced/mesh/triangle_mesh.hpp>
 
+#include <Eigen/Core>
+
 #include <cstdint>
 #include <vector>
 
@@ -36,6 +38,16 @@ struct PointPicture {
 /// @param field a body with a distance field (haptic::Body::field), at its pose.
 /// @param deepest_level < 0 gives an empty picture.
 PointPicture classify_points(const haptic::Body& pointshell, const haptic::Body& field,
+                             int deepest_level);
+
+/// classify_points() with the pointshell's reduced coordinates given instead of read from
+/// `pointshell.integrator`, which may then be null: for a caller that keeps its own copy of q,
+/// such as the interactive viewer's drawing thread, whose bodies' integrators the haptic thread
+/// is stepping meanwhile.
+/// @param q a deformable pointshell's q (its tree's r entries); ignored for a rigid one.
+/// @throws reduced::Error if a deformable pointshell's q does not have r entries.
+PointPicture classify_points(const haptic::Body& pointshell,
+                             const Eigen::Ref<const Eigen::VectorXd>& q, const haptic::Body& field,
                              int deepest_level);
 
 }  // namespace khz::run

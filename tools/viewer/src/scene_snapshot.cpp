@@ -1,4 +1,4 @@
-#include "scene_snapshot.hpp"
+#include <khz/viewer/scene_snapshot.hpp>
 
 #include <algorithm>
 #include <string>
@@ -22,6 +22,11 @@ SnapshotLayout::SnapshotLayout(const scene::SceneRuntime& runtime) : m_offsets{0
     throw reduced::Error("the viewer draws at most " + std::to_string(SceneSnapshot::max_hands) +
                          " hands; this scene has " + std::to_string(m_hands));
   }
+  m_pairs = static_cast<int>(runtime.world().pairs().size());
+  if (m_pairs > SceneSnapshot::max_pairs) {
+    throw reduced::Error("the viewer draws at most " + std::to_string(SceneSnapshot::max_pairs) +
+                         " contact pairs; this scene has " + std::to_string(m_pairs));
+  }
 }
 
 void SnapshotLayout::capture(const scene::SceneRuntime& runtime,
@@ -36,6 +41,10 @@ void SnapshotLayout::capture(const scene::SceneRuntime& runtime,
     if (integrator == nullptr) continue;
     const Eigen::VectorXd& q = integrator->coordinates();
     std::copy(q.data(), q.data() + q.size(), snapshot.coordinates.begin() + m_offsets[i]);
+  }
+  for (int p = 0; p < m_pairs; ++p) {
+    snapshot.deepest_levels[static_cast<std::size_t>(p)] =
+        runtime.world().pair_result(p).statistics.deepest_level;
   }
 }
 

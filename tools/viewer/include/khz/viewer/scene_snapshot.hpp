@@ -19,6 +19,8 @@ struct SceneSnapshot {
   static constexpr int max_coordinates = 512;
   /// The most hands a scene may have in the viewer.
   static constexpr int max_hands = 4;
+  /// The most contact pairs (haptic::World::pairs()) a scene may have in the viewer.
+  static constexpr int max_pairs = 64;
   /// The cycle, per hand (the first SnapshotLayout::hand_count() entries): the held object's
   /// grasp frame (`simulation`), the device's (`manipulandum`), the contact force (N) and the
   /// query's counters.
@@ -28,20 +30,26 @@ struct SceneSnapshot {
   /// Every reduced object's q after the cycle's time step, object after object
   /// (SnapshotLayout says where each starts).
   std::array<double, max_coordinates> coordinates{};
+  /// Per pair (the first SnapshotLayout::pair_count() entries, in haptic::World::pairs()'s
+  /// order), the deepest tree level its query rendered (ContactStatistics::deepest_level, −1
+  /// before the first query): with the poses and q, what the drawing thread needs to classify
+  /// that pair's points (SnapshotPoints) without reading the World.
+  std::array<int, max_pairs> deepest_levels{};
 };
 
 /// Where each object's q lies in SceneSnapshot::coordinates, fixed before the loop starts.
 class SnapshotLayout {
  public:
   /// @throws reduced::Error if the reduced objects have more than
-  ///         SceneSnapshot::max_coordinates coordinates in all, or the scene more than
-  ///         SceneSnapshot::max_hands hands.
+  ///         SceneSnapshot::max_coordinates coordinates in all, the scene more than
+  ///         SceneSnapshot::max_hands hands or its World more than SceneSnapshot::max_pairs pairs.
   explicit SnapshotLayout(const scene::SceneRuntime& runtime);
 
   int hand_count() const noexcept { return m_hands; }
-  /// Writes the runtime's last records, its held objects' poses and every reduced object's
-  /// current q into `snapshot`. noexcept and allocation-free: for the haptic thread, right after
-  /// the cycle.
+  int pair_count() const noexcept { return m_pairs; }
+  /// Writes the runtime's last records, its held objects' poses, every reduced object's current
+  /// q and every pair's deepest level into `snapshot`. noexcept and allocation-free: for the
+  /// haptic thread, right after the cycle.
   void capture(const scene::SceneRuntime& runtime, SceneSnapshot& snapshot) const noexcept;
   /// Object i's q in `snapshot` (r entries; empty for rigid objects).
   Eigen::Map<const Eigen::VectorXd> coordinates(const SceneSnapshot& snapshot,
@@ -50,6 +58,7 @@ class SnapshotLayout {
  private:
   std::vector<int> m_offsets;  // per object, then the total: q of object i is [o_i, o_i+1)
   int m_hands = 0;
+  int m_pairs = 0;
 };
 
 }  // namespace khz::viewer
