@@ -28,7 +28,8 @@ int main() {
     "haptic": {"object": "peg"},
     "device": {"type": "null", "pose": {"position": [0.03, 0, 0.037]}},
     "loop": {"rate_hz": 1000, "duration": 0.2}
-  })", "consumer scene");
+  })",
+                                                                           "consumer scene");
   khz::scene::ProductCache cache(std::filesystem::temp_directory_path() / "khz_consumer_cache");
   const khz::scene::PreparedScene prepared = khz::scene::prepare_scene(description, cache);
 
