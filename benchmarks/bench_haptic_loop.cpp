@@ -890,6 +890,10 @@ void run_world(const SceneSpec& spec, int cycles) {
   OperatorHand one_hand(hand_target(), placement.grasp);
   kh::World one_pair({dino_body(), bunny_body(placement.pointshell)},
                      {hand(0, placement.grasp, one_hand)}, spec.contact);
+  // Both couplings start where Rig's does: at the script's first anchor.
+  kh::Pose script_start = hand_target()(0.0);
+  script_start.position += placement.grasp;
+  one_pair.coupling(0).reset(script_start);
   WorldCosts cycle_costs, world_costs;
   double largest_difference = 0.0;  // N, between the two ways' contact forces
   for (int i = 0; i < cycles; ++i) {
@@ -926,6 +930,7 @@ void run_world(const SceneSpec& spec, int cycles) {
       {hand(0, placement.grasp, dino_hand),
        hand(1, placement.pointshell.inverse() * placement.grasp, bunny_hand)},
       spec.contact);
+  two_hands.coupling(0).reset(script_start);
   WorldCosts three_bodies;
   long both_in_contact = 0;
   for (int i = 0; i < cycles; ++i) {
