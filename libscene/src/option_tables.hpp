@@ -1,0 +1,68 @@
+#pragma once
+// Which option structs a scene file sets through an option table (option_table.hpp), and the
+// reading and content-key writing that follow from a struct's table.
+
+#include "option_table.hpp"
+
+#include <khz/contact/query/contact_options.hpp>
+#include <khz/haptic/coupling/coupling_options.hpp>
+#include <khz/haptic/device/device.hpp>
+#include <khz/haptic/device/safe_device.hpp>
+#include <khz/haptic/device/simulated_operator.hpp>
+#include <khz/haptic/device/trajectory_device.hpp>
+#include <khz/haptic/loop/haptic_loop.hpp>
+
+namespace khz::scene::detail {
+
+// libcontact (contact_option_tables.cpp)
+template <>
+const OptionTable<contact::ContactOptions>& option_table();
+template <>
+const OptionTable<contact::DegradationOptions>& option_table();
+template <>
+const OptionTable<contact::CoherenceOptions>& option_table();
+
+// libhaptic (haptic_option_tables.cpp)
+template <>
+const OptionTable<haptic::CouplingOptions>& option_table();
+template <>
+const OptionTable<haptic::LoopOptions>& option_table();
+template <>
+const OptionTable<haptic::DeviceCapabilities>& option_table();
+template <>
+const OptionTable<haptic::WorkspaceMapping>& option_table();
+template <>
+const OptionTable<haptic::SafetyOptions>& option_table();
+template <>
+const OptionTable<haptic::DeviceDynamics>& option_table();
+template <>
+const OptionTable<haptic::HandModel>& option_table();
+template <>
+const OptionTable<haptic::SimulatedOperatorOptions>& option_table();
+template <>
+const OptionTable<haptic::TrajectoryDeviceOptions>& option_table();
+
+/// Sets `options` from the keys `block` has, through its struct's table.
+/// @throws SceneError at the first value refused.
+template <typename Options>
+void read_options(const ObjectReader& block, Options& options) {
+  option_table<Options>().read(block, options);
+}
+
+/// Sets `options` from the block `key` of `parent` through its struct's table, the table's keys
+/// being the block's; a block left out keeps `options`. `hints` name keys of other blocks.
+/// @throws SceneError at the first problem.
+template <typename Options>
+void read_block(const ObjectReader& parent, std::string_view key, Options& options,
+                std::initializer_list<ObjectReader::Hint> hints = {}) {
+  const OptionTable<Options>& table = option_table<Options>();
+  if (const auto block = parent.object(key, table.keys(), hints)) table.read(*block, options);
+}
+
+/// `options` as content keys write them, through its struct's table.
+template <typename Options>
+Json canonical_options(const Options& options) {
+  return option_table<Options>().canonical(options);
+}
+
+}  // namespace khz::scene::detail
