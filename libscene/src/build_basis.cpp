@@ -56,10 +56,7 @@ reduced::Basis sketch(const reduced::FemModel& fem, std::span<const int> fixed_v
   options.force_kernel_width = basis.force_kernel_width;
   options.deformation_separation = basis.deformation_separation;
   options.deformation_kernel_width = basis.deformation_kernel_width;
-  options.static_solve.load_steps = basis.static_solve.load_steps;
-  options.static_solve.max_iterations = basis.static_solve.max_iterations;
-  options.static_solve.tolerance = basis.static_solve.tolerance;
-  options.static_solve.line_search = basis.static_solve.line_search;
+  options.static_solve = basis.static_solve;
   options.basis_size = basis.basis_size;
   options.metric = basis.metric;
   options.rank_tolerance = basis.rank_tolerance;
@@ -83,12 +80,7 @@ Eigen::MatrixXd simulation_snapshots(const reduced::FemModel& fem,
   const SimulationRunDescription& run = basis.simulation;
   const std::vector<reduced::ForceLoad> loads =
       reduced::read_force_loads(basis.loads_path, fem.mesh().num_vertices());
-  reduced::FullNewmarkOptions options;
-  options.newmark.time_step = run.time_step;
-  options.newmark.mass_damping = run.mass_damping;
-  options.newmark.stiffness_damping = run.stiffness_damping;
-  options.max_newton_iterations = run.max_newton_iterations;
-  reduced::FullNewmark simulation(fem, fixed_vertices, options);
+  reduced::FullNewmark simulation(fem, fixed_vertices, run.integrator);
 
   const auto total_steps = static_cast<std::int64_t>(loads.size()) *
                            (std::int64_t{run.hold_steps} + std::int64_t{run.release_steps});

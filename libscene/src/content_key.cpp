@@ -1,12 +1,12 @@
 #include <khz/scene/content_key.hpp>
 
 #include "names.hpp"
+#include "option_tables.hpp"
 
 #include <khz/reduced/errors.hpp>
 #include <khz/scene/procedural_shape.hpp>
 
 #include <xxhash.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -17,7 +17,8 @@
 namespace khz::scene {
 namespace {
 
-using Json = nlohmann::json;
+using detail::canonical_options;
+using detail::Json;
 
 /// Bumped whenever a key's content or spelling changes, so old cache entries stop matching.
 constexpr int key_version = 1;
@@ -92,23 +93,9 @@ Json pointshell_json(const ObjectDescription& object) {
 }
 
 Json meshing_json(const MeshingDescription& meshing) {
-  Json result = {{"method", detail::name_of(meshing.method, detail::meshing_methods)}};
-  if (meshing.method == MeshingMethod::voxels) {
-    result["resolution"] = meshing.voxels.resolution;
-    result["enlargement"] = meshing.voxels.enlargement;
-    result["fill_interior"] = meshing.voxels.fill_interior;
-  } else {
-    const reduced::TetrahedralizeOptions& tets = meshing.tetrahedra;
-    result["facet_size"] = tets.facet_size;
-    result["facet_distance"] = tets.facet_distance;
-    result["facet_angle"] = tets.facet_angle;
-    result["cell_size"] = tets.cell_size;
-    result["cell_radius_edge_ratio"] = tets.cell_radius_edge_ratio;
-    result["seed"] = tets.seed;
-    result["sliver_bound"] = tets.sliver_bound;
-    result["perturb"] = tets.perturb;
-    result["exude"] = tets.exude;
-  }
+  Json result = meshing.method == MeshingMethod::voxels ? canonical_options(meshing.voxels)
+                                                        : canonical_options(meshing.tetrahedra);
+  result["method"] = detail::name_of(meshing.method, detail::meshing_methods);
   return result;
 }
 
@@ -148,20 +135,10 @@ Json basis_json(const BasisDescription& basis) {
     result["force_kernel_width"] = basis.force_kernel_width;
     result["deformation_separation"] = basis.deformation_separation;
     result["deformation_kernel_width"] = basis.deformation_kernel_width;
-    result["static_solve"] = {{"load_steps", basis.static_solve.load_steps},
-                              {"max_iterations", basis.static_solve.max_iterations},
-                              {"tolerance", basis.static_solve.tolerance},
-                              {"line_search", basis.static_solve.line_search}};
+    result["static_solve"] = canonical_options(basis.static_solve);
     result["skip_failed_solves"] = basis.skip_failed_solves;
   } else {
-    const SimulationRunDescription& run = basis.simulation;
-    result["simulation"] = {{"hold_steps", run.hold_steps},
-                            {"release_steps", run.release_steps},
-                            {"snapshot_every", run.snapshot_every},
-                            {"time_step", run.time_step},
-                            {"max_newton_iterations", run.max_newton_iterations},
-                            {"mass_damping", run.mass_damping},
-                            {"stiffness_damping", run.stiffness_damping}};
+    result["simulation"] = canonical_options(basis.simulation);
     result["fixed_tolerance"] = basis.fixed_tolerance;
   }
   return result;
@@ -169,10 +146,7 @@ Json basis_json(const BasisDescription& basis) {
 
 Json model_json(const ModelDescription& model) {
   return {{"meshing", meshing_json(model.meshing)},
-          {"material",
-           {{"young_modulus", model.material.young_modulus},
-            {"poisson_ratio", model.material.poisson_ratio},
-            {"density", model.material.density}}},
+          {"material", canonical_options(model.material)},
           {"anchors", anchors_json(model.anchors)},
           {"basis", basis_json(model.basis)}};
 }

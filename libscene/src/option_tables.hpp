@@ -11,6 +11,12 @@
 #include <khz/haptic/device/simulated_operator.hpp>
 #include <khz/haptic/device/trajectory_device.hpp>
 #include <khz/haptic/loop/haptic_loop.hpp>
+#include <khz/reduced/meshing/tetrahedralize.hpp>
+#include <khz/reduced/meshing/voxelize.hpp>
+#include <khz/reduced/solvers/static_solver.hpp>
+#include <khz/reduced/subspace/reduced_newmark.hpp>
+#include <khz/scene/basis_description.hpp>
+#include <khz/scene/model_description.hpp>
 
 namespace khz::scene::detail {
 
@@ -41,6 +47,20 @@ template <>
 const OptionTable<haptic::SimulatedOperatorOptions>& option_table();
 template <>
 const OptionTable<haptic::TrajectoryDeviceOptions>& option_table();
+
+// libreduced, and the scene's own structs that map onto it (reduced_option_tables.cpp)
+template <>
+const OptionTable<reduced::VoxelizeOptions>& option_table();
+template <>
+const OptionTable<reduced::TetrahedralizeOptions>& option_table();
+template <>
+const OptionTable<reduced::ReducedNewmarkOptions>& option_table();
+template <>
+const OptionTable<reduced::StaticSolveOptions>& option_table();
+template <>
+const OptionTable<MaterialDescription>& option_table();
+template <>
+const OptionTable<SimulationRunDescription>& option_table();
 
 /// Sets `options` from the keys `block` has, through its struct's table.
 /// @throws SceneError at the first value refused.

@@ -1,6 +1,7 @@
 #include "read_object.hpp"
 
 #include "names.hpp"
+#include "option_tables.hpp"
 
 #include <khz/contact/field/deformed_distance_field.hpp>
 #include <khz/reduced/errors.hpp>
@@ -72,48 +73,28 @@ ObjectRoles read_roles(const ObjectReader& object) {
 MaterialDescription read_material(const ObjectReader& model) {
   const ObjectReader material(
       model.required("material", "young_modulus, poisson_ratio and density"), model.at("material"),
-      {"young_modulus", "poisson_ratio", "density"},
+      option_table<MaterialDescription>().keys(),
       {{"E", "young_modulus"}, {"nu", "poisson_ratio"}, {"rho", "density"}});
   MaterialDescription result;
-  result.young_modulus = material.required_number("young_modulus", above(0.0), "E in Pa");
-  result.poisson_ratio =
-      material.required_number("poisson_ratio", open_interval(-1.0, 0.5), "ν in (−1, ½)");
-  result.density = material.required_number("density", above(0.0), "ρ in kg/m³");
+  read_options(material, result);
   return result;
 }
 
 MeshingDescription read_meshing(const ObjectReader& model) {
   MeshingDescription result;
+  const auto& voxel_settings = option_table<reduced::VoxelizeOptions>();
+  const auto& tetrahedra_settings = option_table<reduced::TetrahedralizeOptions>();
   const auto meshing =
-      model.object("meshing",
-                   {"method", "resolution", "enlargement", "fill_interior", "facet_size",
-                    "facet_distance", "facet_angle", "cell_size", "cell_radius_edge_ratio", "seed",
-                    "sliver_bound", "perturb", "exude"},
+      model.object("meshing", KeyList("method", voxel_settings, tetrahedra_settings),
                    {{"cells", "resolution"}, {"box_expansion", "enlargement"}});
   if (!meshing) return result;
   result.method = meshing->choice("method", result.method, meshing_methods);
   if (result.method == MeshingMethod::voxels) {
-    meshing->refuse({"facet_size", "facet_distance", "facet_angle", "cell_size",
-                     "cell_radius_edge_ratio", "seed", "sliver_bound", "perturb", "exude"},
-                    "method \"tetrahedra\" (method is \"voxels\")");
-    reduced::VoxelizeOptions& voxels = result.voxels;
-    voxels.resolution = meshing->integer("resolution", voxels.resolution, closed(1, 1024));
-    voxels.enlargement = meshing->number("enlargement", voxels.enlargement, at_least(1.0));
-    voxels.fill_interior = meshing->boolean("fill_interior", voxels.fill_interior);
+    meshing->refuse(tetrahedra_settings.keys(), "method \"tetrahedra\" (method is \"voxels\")");
+    voxel_settings.read(*meshing, result.voxels);
   } else {
-    meshing->refuse({"resolution", "enlargement", "fill_interior"},
-                    "method \"voxels\" (method is \"tetrahedra\")");
-    reduced::TetrahedralizeOptions& tets = result.tetrahedra;
-    tets.facet_size = meshing->number("facet_size", tets.facet_size, at_least(0.0));
-    tets.facet_distance = meshing->number("facet_distance", tets.facet_distance, at_least(0.0));
-    tets.facet_angle = meshing->number("facet_angle", tets.facet_angle, closed(0.0, 30.0));
-    tets.cell_size = meshing->number("cell_size", tets.cell_size, at_least(0.0));
-    tets.cell_radius_edge_ratio =
-        meshing->number("cell_radius_edge_ratio", tets.cell_radius_edge_ratio, at_least(2.0));
-    tets.seed = meshing->integer<std::uint32_t>("seed", tets.seed, at_least(0.0));
-    tets.sliver_bound = meshing->number("sliver_bound", tets.sliver_bound, at_least(0.0));
-    tets.perturb = meshing->boolean("perturb", tets.perturb);
-    tets.exude = meshing->boolean("exude", tets.exude);
+    meshing->refuse(voxel_settings.keys(), "method \"voxels\" (method is \"tetrahedra\")");
+    tetrahedra_settings.read(*meshing, result.tetrahedra);
   }
   return result;
 }
@@ -152,34 +133,11 @@ std::vector<AnchorRegion> read_anchors(const ObjectReader& model) {
   return result;
 }
 
-StaticSolveDescription read_static_solve(const ObjectReader& basis) {
-  StaticSolveDescription result;
-  const auto solve =
-      basis.object("static_solve", {"load_steps", "max_iterations", "tolerance", "line_search"});
-  if (!solve) return result;
-  result.load_steps = solve->integer("load_steps", result.load_steps, at_least(1));
-  result.max_iterations = solve->integer("max_iterations", result.max_iterations, at_least(1));
-  result.tolerance = solve->number("tolerance", result.tolerance, above(0.0));
-  result.line_search = solve->boolean("line_search", result.line_search);
-  return result;
-}
-
 SimulationRunDescription read_simulation(const ObjectReader& basis) {
   SimulationRunDescription result;
   const ObjectReader run(basis.required("simulation", "the full simulation to take snapshots of"),
-                         basis.at("simulation"),
-                         {"hold_steps", "release_steps", "snapshot_every", "time_step",
-                          "max_newton_iterations", "mass_damping", "stiffness_damping"});
-  result.hold_steps =
-      run.required_integer<int>("hold_steps", at_least(1), "steps each load is applied");
-  result.release_steps = run.integer("release_steps", result.release_steps, at_least(0));
-  result.snapshot_every = run.integer("snapshot_every", result.snapshot_every, at_least(1));
-  result.time_step = run.number("time_step", result.time_step, above(0.0));
-  result.max_newton_iterations =
-      run.integer("max_newton_iterations", result.max_newton_iterations, at_least(1));
-  result.mass_damping = run.number("mass_damping", result.mass_damping, at_least(0.0));
-  result.stiffness_damping =
-      run.number("stiffness_damping", result.stiffness_damping, at_least(0.0));
+                         basis.at("simulation"), option_table<SimulationRunDescription>().keys());
+  read_options(run, result);
   return result;
 }
 
@@ -261,7 +219,7 @@ BasisDescription read_basis(const ObjectReader& model, const ReadContext& contex
     result.force_kernel_width = basis->number("force_kernel_width", 0.0, at_least(0.0));
     result.deformation_separation = basis->number("deformation_separation", 0.0, at_least(0.0));
     result.deformation_kernel_width = basis->number("deformation_kernel_width", 0.0, at_least(0.0));
-    result.static_solve = read_static_solve(*basis);
+    read_block(*basis, "static_solve", result.static_solve);
     result.skip_failed_solves = basis->boolean("skip_failed_solves", result.skip_failed_solves);
   } else {
     result.simulation = read_simulation(*basis);
@@ -274,24 +232,8 @@ reduced::ReducedNewmarkOptions read_integrator(const ObjectReader& model,
                                                const ReadContext& context) {
   reduced::ReducedNewmarkOptions result;
   result.newmark.time_step = 1.0 / context.rate_hz;
-  const auto integrator =
-      model.object("integrator",
-                   {"time_step", "beta", "gamma", "mass_damping", "stiffness_damping",
-                    "max_newton_iterations", "tolerance", "acceleration_limit"},
-                   {{"damping", "mass_damping"}, {"newton_iterations", "max_newton_iterations"}});
-  if (!integrator) return result;
-  reduced::NewmarkParameters& newmark = result.newmark;
-  newmark.time_step = integrator->number("time_step", newmark.time_step, above(0.0));
-  newmark.beta = integrator->number("beta", newmark.beta, open_closed(0.0, 0.5));
-  newmark.gamma = integrator->number("gamma", newmark.gamma, closed(0.0, 1.0));
-  newmark.mass_damping = integrator->number("mass_damping", newmark.mass_damping, at_least(0.0));
-  newmark.stiffness_damping =
-      integrator->number("stiffness_damping", newmark.stiffness_damping, at_least(0.0));
-  result.max_newton_iterations =
-      integrator->integer("max_newton_iterations", result.max_newton_iterations, at_least(1));
-  result.tolerance = integrator->number("tolerance", result.tolerance, above(0.0));
-  result.acceleration_limit =
-      integrator->number("acceleration_limit", result.acceleration_limit, above(0.0));
+  read_block(model, "integrator", result,
+             {{"damping", "mass_damping"}, {"newton_iterations", "max_newton_iterations"}});
   return result;
 }
 

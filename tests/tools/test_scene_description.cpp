@@ -190,8 +190,8 @@ TEST(SceneDescription, ReducedModelDefaultsAreTheLibraryDefaults) {
   const reduced::SimulationDataBasisOptions simulation;
   EXPECT_EQ(basis.fixed_tolerance, simulation.fixed_tolerance);
   const reduced::FullNewmarkOptions full;
-  EXPECT_EQ(basis.simulation.time_step, full.newmark.time_step);
-  EXPECT_EQ(basis.simulation.max_newton_iterations, full.max_newton_iterations);
+  EXPECT_EQ(basis.simulation.integrator.newmark.time_step, full.newmark.time_step);
+  EXPECT_EQ(basis.simulation.integrator.max_newton_iterations, full.max_newton_iterations);
 
   // The integrator: the library's defaults, but the time step is the loop's period.
   const reduced::ReducedNewmarkOptions newmark;

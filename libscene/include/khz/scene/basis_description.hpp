@@ -4,6 +4,8 @@
 
 #include <khz/reduced/basis/mass_pca.hpp>
 #include <khz/reduced/fem/fem_model.hpp>
+#include <khz/reduced/solvers/full_newmark.hpp>
+#include <khz/reduced/solvers/static_solver.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -24,26 +26,19 @@ enum class BasisMethod {
   simulation_data,
 };
 
-/// The static solves of a sketch basis (JSON basis.static_solve; reduced::StaticSolveOptions).
-struct StaticSolveDescription {
-  int load_steps = 1;       ///< ≥ 1: load increments, each solved to equilibrium.
-  int max_iterations = 50;  ///< ≥ 1: Newton iterations per load step.
-  double tolerance = 1e-8;  ///< > 0: relative residual at which Newton stops.
-  bool line_search = true;  ///< Backtracking line search after each Newton step.
-};
-
 /// The full simulation whose snapshots a simulation-data basis is made of (JSON
 /// basis.simulation). One run of reduced::FullNewmark from rest: every load of the load file in
 /// turn is held for hold_steps steps and then removed for release_steps steps; the displacement
 /// after every snapshot_every-th step is a snapshot.
 struct SimulationRunDescription {
-  int hold_steps = 0;              ///< ≥ 1, required: steps each load is applied.
-  int release_steps = 0;           ///< ≥ 0: force-free steps after each load.
-  int snapshot_every = 1;          ///< ≥ 1: steps between snapshots.
-  double time_step = 1e-3;         ///< Δt (s), > 0 (NewmarkParameters::time_step).
-  int max_newton_iterations = 10;  ///< ≥ 1 (FullNewmarkOptions::max_newton_iterations).
-  double mass_damping = 0.0;       ///< Rayleigh α (1/s), ≥ 0.
-  double stiffness_damping = 0.0;  ///< Rayleigh β (s), ≥ 0.
+  int hold_steps = 0;      ///< "hold_steps", ≥ 1, required: steps each load is applied.
+  int release_steps = 0;   ///< "release_steps", ≥ 0: force-free steps after each load.
+  int snapshot_every = 1;  ///< "snapshot_every", ≥ 1: steps between snapshots.
+  /// The run's integrator, with the library's defaults: JSON "time_step" (Δt, s, > 0),
+  /// "mass_damping" (Rayleigh α, 1/s, ≥ 0) and "stiffness_damping" (Rayleigh β, s, ≥ 0) set
+  /// its NewmarkParameters, "max_newton_iterations" (≥ 1) its own; beta, gamma, mass and
+  /// tolerance are not keys.
+  reduced::FullNewmarkOptions integrator;
 };
 
 /// A reduced object's basis recipe (JSON model.basis). Members list their JSON key and the
@@ -91,8 +86,9 @@ struct BasisDescription {
   double force_kernel_width = 0.0;        ///< "force_kernel_width": h_f (N), ≥ 0.
   double deformation_separation = 0.0;    ///< "deformation_separation": δ_u (m·√kg), ≥ 0.
   double deformation_kernel_width = 0.0;  ///< "deformation_kernel_width": h_u (m·√kg), ≥ 0.
-  StaticSolveDescription static_solve;    ///< "static_solve".
-  bool skip_failed_solves = false;        ///< "skip_failed_solves".
+  /// "static_solve": load_steps, max_iterations, tolerance, line_search (progress is not a key).
+  reduced::StaticSolveOptions static_solve;
+  bool skip_failed_solves = false;  ///< "skip_failed_solves".
 
   // --- simulation_data ---
   SimulationRunDescription simulation;  ///< "simulation" (required for this method).
