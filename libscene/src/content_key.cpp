@@ -50,45 +50,25 @@ Json geometry_json(const ObjectDescription& object) {
 }
 
 Json field_json(const FieldDescription& field) {
-  Json result = {{"cells", field.cells},
-                 {"box_expansion", field.box_expansion},
-                 {"exact_band", field.exact_band},
-                 {"soup", field.soup}};
+  Json result = canonical_options(field.distance);
+  result["soup"] = field.soup;
   if (field.soup) result["offset"] = field.offset;
   return result;
 }
 
-Json schedule_json(const contact::LevelSchedule& schedule) {
-  return {{"first_level_size", schedule.first_level_size},
-          {"growth", schedule.growth},
-          {"max_levels", schedule.max_levels}};
-}
-
 Json pointshell_json(const ObjectDescription& object) {
   const PointshellDescription& shell = object.pointshell;
-  Json result = {{"method", detail::name_of(shell.method, detail::pointshell_methods)},
-                 {"seed", shell.seed}};
-  switch (shell.method) {
-    case PointshellMethod::repulsion:
-      result["first_level_points"] = shell.first_level_points;
-      result["levels"] = shell.levels;
-      result["max_iterations"] = shell.max_iterations;
-      result["tolerance"] = shell.tolerance;
-      result["radius_factor"] = shell.radius_factor;
-      result["field"] = field_json(object.field);  // the level set the points lie on
-      break;
-    case PointshellMethod::vertices:
-      result["schedule"] = schedule_json(shell.schedule);
-      break;
-    case PointshellMethod::random:
-      result["points"] = shell.count;
-      result["schedule"] = schedule_json(shell.schedule);
-      break;
-    case PointshellMethod::voxels:
-      result["cell_size"] = shell.cell_size;
-      result["schedule"] = schedule_json(shell.schedule);
-      break;
+  Json result = {{"method", detail::name_of(shell.method, detail::pointshell_methods)}};
+  if (shell.method == PointshellMethod::repulsion) {
+    result.update(canonical_options(shell.repulsion));
+    result["field"] = field_json(object.field);  // the level set the points lie on
+    return result;
   }
+  // Key format 1 nests the schedule, beside the seed.
+  result["seed"] = shell.nested.seed;
+  result["schedule"] = canonical_options(shell.nested.schedule);
+  if (shell.method == PointshellMethod::random) result["points"] = shell.count;
+  if (shell.method == PointshellMethod::voxels) result["cell_size"] = shell.cell_size;
   return result;
 }
 

@@ -4,6 +4,10 @@
 
 #include "option_table.hpp"
 
+#include <khz/contact/field/deformed_distance_field.hpp>
+#include <khz/contact/field/mesh_distance_field.hpp>
+#include <khz/contact/pointshell/nested_levels.hpp>
+#include <khz/contact/pointshell/repulsion_pointshell.hpp>
 #include <khz/contact/query/contact_options.hpp>
 #include <khz/haptic/coupling/coupling_options.hpp>
 #include <khz/haptic/device/device.hpp>
@@ -21,6 +25,16 @@
 namespace khz::scene::detail {
 
 // libcontact (contact_option_tables.cpp)
+template <>
+const OptionTable<contact::DistanceFieldOptions>& option_table();
+template <>
+const OptionTable<contact::DeformedFieldOptions>& option_table();
+template <>
+const OptionTable<contact::RepulsionOptions>& option_table();
+template <>
+const OptionTable<contact::LevelSchedule>& option_table();
+template <>
+const OptionTable<contact::NestedLevelOptions>& option_table();
 template <>
 const OptionTable<contact::ContactOptions>& option_table();
 template <>

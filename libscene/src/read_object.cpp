@@ -3,7 +3,6 @@
 #include "names.hpp"
 #include "option_tables.hpp"
 
-#include <khz/contact/field/deformed_distance_field.hpp>
 #include <khz/reduced/errors.hpp>
 #include <khz/scene/procedural_shape.hpp>
 
@@ -267,13 +266,12 @@ PointshellDescription read_pointshell(const ObjectReader& object) {
   PointshellDescription result;
   const auto shell =
       object.object("pointshell",
-                    {"method", "first_level_points", "points", "levels", "growth", "seed",
-                     "max_iterations", "tolerance", "radius_factor", "cell_size"},
+                    KeyList("method", option_table<contact::RepulsionOptions>(), "points",
+                            option_table<contact::NestedLevelOptions>(), "cell_size"),
                     {{"count", "points"}, {"first_level_size", "first_level_points"}});
   if (!shell) return result;
   result.method = shell->choice("method", result.method, pointshell_methods);
   const std::string method = in_quotes(name_of(result.method, pointshell_methods));
-  result.seed = shell->seed("seed", result.seed);
   if (result.method == PointshellMethod::repulsion) {
     shell->refuse({"growth"},
                   "the methods \"vertices\", \"random\" and \"voxels\" (repulsion's levels grow "
@@ -282,29 +280,26 @@ PointshellDescription read_pointshell(const ObjectReader& object) {
     if (shell->has("first_level_points") && shell->has("points")) {
       shell->fail("points", "give either \"first_level_points\" or \"points\", not both");
     }
-    result.levels = shell->integer("levels", result.levels, at_least(1));
-    const double level_factor = (std::pow(4.0, result.levels) - 1.0) / 3.0;  // N = n₀ × this
+    contact::RepulsionOptions& repulsion = result.repulsion;
+    read_options(*shell, repulsion);
+    // "points" is the scene's own way to give n₀: through the total over all levels.
+    const double level_factor = (std::pow(4.0, repulsion.levels) - 1.0) / 3.0;  // N = n₀ × this
     std::string_view count_key = "levels";
     if (shell->has("points")) {
       count_key = "points";
       const auto points = shell->integer<Eigen::Index>("points", 0, closed(1, most_points));
-      result.first_level_points =
+      repulsion.first_level_points =
           std::max<Eigen::Index>(1, std::llround(static_cast<double>(points) / level_factor));
     } else if (shell->has("first_level_points")) {
       count_key = "first_level_points";
-      result.first_level_points =
-          shell->integer<Eigen::Index>("first_level_points", 0, at_least(1));
     }
-    const double total = static_cast<double>(result.first_level_points) * level_factor;
+    const double total = static_cast<double>(repulsion.first_level_points) * level_factor;
     if (total > most_points) {
-      shell->fail(count_key, "n₀(4ᴸ − 1)/3 = " + format_number(total) +
-                                 " points for n₀ = " + std::to_string(result.first_level_points) +
-                                 " and L = " + std::to_string(result.levels) +
+      shell->fail(count_key, "n₀(4ᴸ − 1)/3 = " + format_number(total) + " points for n₀ = " +
+                                 std::to_string(repulsion.first_level_points) +
+                                 " and L = " + std::to_string(repulsion.levels) +
                                  ": expected at most 2147483647 points in all");
     }
-    result.max_iterations = shell->integer("max_iterations", result.max_iterations, at_least(1));
-    result.tolerance = shell->number("tolerance", result.tolerance, open_interval(0.0, 1.0));
-    result.radius_factor = shell->number("radius_factor", result.radius_factor, closed(1.0, 4.0));
     return result;
   }
   shell->refuse({"max_iterations", "tolerance", "radius_factor"},
@@ -321,19 +316,16 @@ PointshellDescription read_pointshell(const ObjectReader& object) {
   } else if (result.method == PointshellMethod::voxels) {
     result.cell_size = shell->required_number("cell_size", above(0.0), "the voxels' side in m");
   }
-  contact::LevelSchedule& schedule = result.schedule;
-  schedule.first_level_size =
-      shell->integer<Eigen::Index>("first_level_points", schedule.first_level_size, at_least(1));
-  schedule.growth = shell->integer("growth", schedule.growth, at_least(2));
-  schedule.max_levels = shell->integer("levels", schedule.max_levels, at_least(0));
+  read_options(*shell, result.nested);
   return result;
 }
 
 FieldDescription read_field(const ObjectReader& object, const ObjectDescription& description) {
   FieldDescription result;
+  const auto& deformed_settings = option_table<contact::DeformedFieldOptions>();
   const auto field = object.object(
       "field",
-      {"cells", "box_expansion", "exact_band", "soup", "offset", "proxies", "neighbours", "seed"},
+      KeyList(option_table<contact::DistanceFieldOptions>(), "soup", "offset", deformed_settings),
       {{"resolution", "cells"},
        {"enlargement", "box_expansion"},
        {"expansion", "box_expansion"},
@@ -341,24 +333,14 @@ FieldDescription read_field(const ObjectReader& object, const ObjectDescription&
        {"k", "neighbours"}});
   if (!field) return result;
   if (!description.is_reduced() || !description.roles.distance_field) {
-    field->refuse({"proxies", "neighbours", "seed"},
+    field->refuse(deformed_settings.keys(),
                   "a reduced object with the distance_field role (its deformed field's proxies)");
   }
-  result.cells = field->integer("cells", result.cells, closed(1, 32768));
-  result.box_expansion = field->number("box_expansion", result.box_expansion, at_least(1.0));
-  result.exact_band =
-      field->number("exact_band", result.exact_band,
-                    with_text(at_least(std::sqrt(3.0)), "a number ≥ √3 ≈ 1.732 (cell spacings)"));
+  read_options(*field, result.distance);
   result.soup = field->boolean("soup", result.soup);
   if (!result.soup) field->refuse({"offset"}, "polygon soups (\"soup\": true)");
   result.offset = field->number("offset", result.offset, at_least(0.0));
-  result.neighbours = field->integer("neighbours", result.neighbours,
-                                     closed(2, contact::DeformedFieldOptions::max_neighbours));
-  result.proxies = field->integer<Eigen::Index>(
-      "proxies", result.proxies,
-      with_text(at_least(static_cast<double>(result.neighbours)),
-                "an integer ≥ neighbours (" + std::to_string(result.neighbours) + ")"));
-  result.seed = field->seed("seed", result.seed);
+  deformed_settings.read(*field, result.deformed);
   return result;
 }
 

@@ -121,28 +121,29 @@ TEST(SceneDescription, ObjectDefaultsAreTheLibraryDefaults) {
   const contact::PolygonSoupFieldOptions soup_options;
   const contact::DeformedFieldOptions deformed_options;
   const FieldDescription& field = scene.objects[1].field;
-  EXPECT_EQ(field.cells, field_options.cells);
-  EXPECT_EQ(field.box_expansion, field_options.box_expansion);
-  EXPECT_EQ(field.exact_band, field_options.exact_band);
+  EXPECT_EQ(field.distance.cells, field_options.cells);
+  EXPECT_EQ(field.distance.box_expansion, field_options.box_expansion);
+  EXPECT_EQ(field.distance.exact_band, field_options.exact_band);
   EXPECT_FALSE(field.soup);
   EXPECT_EQ(field.offset, soup_options.offset);
-  EXPECT_EQ(field.proxies, deformed_options.proxies);
-  EXPECT_EQ(field.neighbours, deformed_options.neighbours);
-  EXPECT_EQ(field.seed, deformed_options.seed);
+  EXPECT_EQ(field.deformed.proxies, deformed_options.proxies);
+  EXPECT_EQ(field.deformed.neighbours, deformed_options.neighbours);
+  EXPECT_EQ(field.deformed.seed, deformed_options.seed);
 
   const contact::RepulsionOptions repulsion;
   const PointshellDescription& shell = tool.pointshell;
   EXPECT_EQ(shell.method, PointshellMethod::repulsion);
-  EXPECT_EQ(shell.first_level_points, repulsion.first_level_points);
-  EXPECT_EQ(shell.levels, repulsion.levels);
-  EXPECT_EQ(shell.seed, repulsion.seed);
-  EXPECT_EQ(shell.max_iterations, repulsion.max_iterations);
-  EXPECT_EQ(shell.tolerance, repulsion.tolerance);
-  EXPECT_EQ(shell.radius_factor, repulsion.radius_factor);
-  const contact::LevelSchedule schedule;
-  EXPECT_EQ(shell.schedule.first_level_size, schedule.first_level_size);
-  EXPECT_EQ(shell.schedule.growth, schedule.growth);
-  EXPECT_EQ(shell.schedule.max_levels, schedule.max_levels);
+  EXPECT_EQ(shell.repulsion.first_level_points, repulsion.first_level_points);
+  EXPECT_EQ(shell.repulsion.levels, repulsion.levels);
+  EXPECT_EQ(shell.repulsion.seed, repulsion.seed);
+  EXPECT_EQ(shell.repulsion.max_iterations, repulsion.max_iterations);
+  EXPECT_EQ(shell.repulsion.tolerance, repulsion.tolerance);
+  EXPECT_EQ(shell.repulsion.radius_factor, repulsion.radius_factor);
+  const contact::NestedLevelOptions nested;
+  EXPECT_EQ(shell.nested.seed, nested.seed);
+  EXPECT_EQ(shell.nested.schedule.first_level_size, nested.schedule.first_level_size);
+  EXPECT_EQ(shell.nested.schedule.growth, nested.schedule.growth);
+  EXPECT_EQ(shell.nested.schedule.max_levels, nested.schedule.max_levels);
   EXPECT_TRUE(tool.uses_field());  // repulsion samples the level set of its own field
   EXPECT_TRUE(scene.objects[1].uses_field());
 }
@@ -352,17 +353,17 @@ TEST(SceneDescription, EverySettingReachesItsMember) {
   EXPECT_EQ(model.integrator.max_newton_iterations, 3);
   EXPECT_EQ(model.integrator.acceleration_limit, 1e4);
 
-  EXPECT_EQ(tool.field.cells, 64);
-  EXPECT_EQ(tool.field.box_expansion, 2.0);
-  EXPECT_EQ(tool.field.exact_band, 4.0);
-  EXPECT_EQ(tool.field.proxies, 30);
-  EXPECT_EQ(tool.field.neighbours, 6);
-  EXPECT_EQ(tool.field.seed, std::numeric_limits<std::uint64_t>::max());
+  EXPECT_EQ(tool.field.distance.cells, 64);
+  EXPECT_EQ(tool.field.distance.box_expansion, 2.0);
+  EXPECT_EQ(tool.field.distance.exact_band, 4.0);
+  EXPECT_EQ(tool.field.deformed.proxies, 30);
+  EXPECT_EQ(tool.field.deformed.neighbours, 6);
+  EXPECT_EQ(tool.field.deformed.seed, std::numeric_limits<std::uint64_t>::max());
   EXPECT_EQ(tool.pointshell.method, PointshellMethod::vertices);
-  EXPECT_EQ(tool.pointshell.schedule.first_level_size, 4);
-  EXPECT_EQ(tool.pointshell.schedule.growth, 3);
-  EXPECT_EQ(tool.pointshell.schedule.max_levels, 2);
-  EXPECT_EQ(tool.pointshell.seed, 3u);
+  EXPECT_EQ(tool.pointshell.nested.schedule.first_level_size, 4);
+  EXPECT_EQ(tool.pointshell.nested.schedule.growth, 3);
+  EXPECT_EQ(tool.pointshell.nested.schedule.max_levels, 2);
+  EXPECT_EQ(tool.pointshell.nested.seed, 3u);
   EXPECT_EQ(s.objects[1].scale, 2.0);
 
   EXPECT_EQ(s.haptic.front().role, contact::HapticObject::distance_field);
@@ -438,16 +439,16 @@ TEST(SceneDescription, DerivedDefaults) {
   // "points" picks n₀ = round(3N / (4ᴸ − 1)).
   scene = minimal_scene();
   scene["objects"][0]["pointshell"] = {{"points", 262229}, {"levels", 5}};
-  EXPECT_EQ(parse(scene).objects[0].pointshell.first_level_points, 769);
+  EXPECT_EQ(parse(scene).objects[0].pointshell.repulsion.first_level_points, 769);
   scene["objects"][0]["pointshell"] = {{"points", 1}, {"levels", 3}};
-  EXPECT_EQ(parse(scene).objects[0].pointshell.first_level_points, 1);
+  EXPECT_EQ(parse(scene).objects[0].pointshell.repulsion.first_level_points, 1);
 
   // Integral floats count as integers; the loop rate sets the periods.
   scene = reduced_scene();
   scene["objects"][1]["field"] = {{"cells", 64.0}};
   scene["loop"] = {{"rate_hz", 2000}};
   const SceneDescription s = parse(scene);
-  EXPECT_EQ(s.objects[1].field.cells, 64);
+  EXPECT_EQ(s.objects[1].field.distance.cells, 64);
   EXPECT_EQ(s.coupling.period, 0.0005);
   EXPECT_EQ(s.objects[0].model.integrator.newmark.time_step, 0.0005);
   EXPECT_EQ(s.haptic.front().device.capabilities.nominal_rate, 2000.0);
