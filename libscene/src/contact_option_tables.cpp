@@ -75,9 +75,8 @@ const OptionTable<contact::NestedLevelOptions>& option_table() {
   using O = contact::NestedLevelOptions;
   static const OptionTable<O> table = [] {
     std::vector<OptionEntry<O>> entries{seed("seed", &O::seed)};
-    for (const OptionEntry<contact::LevelSchedule>& entry :
-         option_table<contact::LevelSchedule>().entries()) {
-      entries.push_back(within(&O::schedule, entry));
+    for (OptionEntry<O>& entry : within(&O::schedule, option_table<contact::LevelSchedule>())) {
+      entries.push_back(std::move(entry));
     }
     return OptionTable<O>(std::move(entries));
   }();

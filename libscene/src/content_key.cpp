@@ -95,32 +95,25 @@ Json anchors_json(const std::vector<AnchorRegion>& anchors) {
 }
 
 Json basis_json(const BasisDescription& basis) {
-  Json result = {{"method", detail::name_of(basis.method, detail::basis_methods)},
-                 {"r", basis.basis_size}};
-  if (basis.method == BasisMethod::modes) {
-    result["k"] = basis.num_modes;
-    result["modal_derivatives"] = basis.modal_derivatives;
-    result["mass"] = detail::name_of(basis.mass, detail::mass_lumpings);
-    result["tolerance"] = basis.tolerance;
-    result["max_restarts"] = basis.max_restarts;
-    if (basis.modal_derivatives)
-      result["metric"] = detail::name_of(basis.metric, detail::pca_metrics);
-    return result;
+  Json result;
+  switch (basis.method) {
+    case BasisMethod::modes:
+      result = canonical_options(basis.modal);
+      result["modal_derivatives"] = basis.modal_derivatives;
+      if (!basis.modal_derivatives) result.erase("metric");  // the first r modes: no PCA
+      break;
+    case BasisMethod::sketch:
+      result = canonical_options(basis.sketch);
+      result["loads"] = file_hash_hex(basis.loads_path);
+      break;
+    case BasisMethod::simulation_data:
+      result = canonical_options(basis.simulation_data);
+      result["loads"] = file_hash_hex(basis.loads_path);
+      result["simulation"] = canonical_options(basis.simulation);
+      break;
   }
-  result["loads"] = file_hash_hex(basis.loads_path);
-  result["metric"] = detail::name_of(basis.metric, detail::pca_metrics);
-  result["rank_tolerance"] = basis.rank_tolerance;
-  if (basis.method == BasisMethod::sketch) {
-    result["force_separation"] = basis.force_separation;
-    result["force_kernel_width"] = basis.force_kernel_width;
-    result["deformation_separation"] = basis.deformation_separation;
-    result["deformation_kernel_width"] = basis.deformation_kernel_width;
-    result["static_solve"] = canonical_options(basis.static_solve);
-    result["skip_failed_solves"] = basis.skip_failed_solves;
-  } else {
-    result["simulation"] = canonical_options(basis.simulation);
-    result["fixed_tolerance"] = basis.fixed_tolerance;
-  }
+  result["method"] = detail::name_of(basis.method, detail::basis_methods);
+  result["r"] = basis.basis_size();
   return result;
 }
 

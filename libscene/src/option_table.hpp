@@ -200,6 +200,14 @@ OptionEntry<Outer> within(Inner Outer::*part, OptionEntry<Inner> entry) {
 template <typename Options>
 class OptionTable;
 
+/// Every entry of `table`, for a struct that `Outer` holds as `part`.
+template <typename Outer, typename Inner>
+std::vector<OptionEntry<Outer>> within(Inner Outer::*part, const OptionTable<Inner>& table) {
+  std::vector<OptionEntry<Outer>> entries;
+  for (const OptionEntry<Inner>& entry : table.entries()) entries.push_back(within(part, entry));
+  return entries;
+}
+
 /// A nested block {...} under `key` whose keys are `table`'s, setting the member `part`.
 template <typename Options, typename Inner>
 OptionEntry<Options> block(std::string_view key, Inner Options::*part,

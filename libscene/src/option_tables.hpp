@@ -15,6 +15,10 @@
 #include <khz/haptic/device/simulated_operator.hpp>
 #include <khz/haptic/device/trajectory_device.hpp>
 #include <khz/haptic/loop/haptic_loop.hpp>
+#include <khz/reduced/basis/linear_modes.hpp>
+#include <khz/reduced/basis/modal_derivative_basis.hpp>
+#include <khz/reduced/basis/simulation_data_basis.hpp>
+#include <khz/reduced/basis/sketch_basis.hpp>
 #include <khz/reduced/meshing/tetrahedralize.hpp>
 #include <khz/reduced/meshing/voxelize.hpp>
 #include <khz/reduced/solvers/static_solver.hpp>
@@ -71,6 +75,14 @@ template <>
 const OptionTable<reduced::ReducedNewmarkOptions>& option_table();
 template <>
 const OptionTable<reduced::StaticSolveOptions>& option_table();
+template <>
+const OptionTable<reduced::LinearModesOptions>& option_table();
+template <>
+const OptionTable<reduced::ModalDerivativeBasisOptions>& option_table();
+template <>
+const OptionTable<reduced::SketchBasisOptions>& option_table();
+template <>
+const OptionTable<reduced::SimulationDataBasisOptions>& option_table();
 template <>
 const OptionTable<MaterialDescription>& option_table();
 template <>

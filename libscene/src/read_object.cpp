@@ -143,9 +143,9 @@ SimulationRunDescription read_simulation(const ObjectReader& basis) {
 /// r for a modes basis: bounded by what the modes (and derivatives) span.
 int read_modes_basis_size(const ObjectReader& basis, const BasisDescription& result,
                           bool anchored) {
-  const std::int64_t k = result.num_modes;
+  const std::int64_t k = result.modal.modes.num_modes;
   if (!result.modal_derivatives) {
-    return basis.integer("r", result.num_modes,
+    return basis.integer("r", result.modal.modes.num_modes,
                          with_text(closed(1, static_cast<double>(k)),
                                    "an integer in [1, " + std::to_string(k) + "] (at most k = " +
                                        std::to_string(k) + " without modal derivatives)"));
@@ -153,19 +153,20 @@ int read_modes_basis_size(const ObjectReader& basis, const BasisDescription& res
   const std::int64_t most = anchored ? k + k * (k + 1) / 2 : k + k * k;
   const std::string why = anchored ? "k + k(k+1)/2 for k = " + std::to_string(k) + " with anchors"
                                    : "k + k² for k = " + std::to_string(k) + " without anchors";
-  return basis.integer("r", result.basis_size,
+  return basis.integer("r", result.modal.basis_size,
                        with_text(closed(1, static_cast<double>(most)),
                                  "an integer in [1, " + std::to_string(most) + "] (" + why + ")"));
 }
 
 BasisDescription read_basis(const ObjectReader& model, const ReadContext& context, bool anchored) {
   BasisDescription result;
+  const auto& modal_settings = option_table<reduced::ModalDerivativeBasisOptions>();
+  const auto& sketch_settings = option_table<reduced::SketchBasisOptions>();
+  const auto& simulation_data_settings = option_table<reduced::SimulationDataBasisOptions>();
   const auto basis =
       model.object("basis",
-                   {"method", "r", "k", "modal_derivatives", "mass", "tolerance", "max_restarts",
-                    "metric", "rank_tolerance", "loads", "force_separation", "force_kernel_width",
-                    "deformation_separation", "deformation_kernel_width", "static_solve",
-                    "skip_failed_solves", "simulation", "fixed_tolerance"},
+                   KeyList("method", "r", modal_settings, "modal_derivatives", "loads",
+                           sketch_settings, "simulation", simulation_data_settings),
                    {{"num_modes", "k"}, {"basis_size", "r"}, {"derivatives", "modal_derivatives"}});
   if (!basis) return result;
   result.method = basis->choice("method", result.method, basis_methods);
@@ -178,18 +179,14 @@ BasisDescription read_basis(const ObjectReader& model, const ReadContext& contex
                   "method \"simulation_data\" (method is \"modes\")");
     basis->refuse({"rank_tolerance"},
                   "methods \"sketch\" and \"simulation_data\" (method is \"modes\")");
-    result.num_modes = basis->integer("k", result.num_modes, at_least(1));
     result.modal_derivatives = basis->boolean("modal_derivatives", result.modal_derivatives);
-    result.mass = basis->choice("mass", result.mass, mass_lumpings);
-    result.tolerance = basis->number("tolerance", result.tolerance, at_least(0.0));
-    result.max_restarts = basis->integer("max_restarts", result.max_restarts, at_least(1));
     if (!result.modal_derivatives) {
       basis->refuse({"metric"},
                     "modal derivatives (their mass-PCA); without them the basis is the first r "
                     "modes");
     }
-    result.metric = basis->choice("metric", result.metric, pca_metrics);
-    result.basis_size = read_modes_basis_size(*basis, result, anchored);
+    modal_settings.read(*basis, result.modal);
+    result.modal.basis_size = read_modes_basis_size(*basis, result, anchored);
     return result;
   }
   basis->refuse({"k", "modal_derivatives", "mass", "tolerance", "max_restarts"},
@@ -202,27 +199,22 @@ BasisDescription read_basis(const ObjectReader& model, const ReadContext& contex
                    "deformation_kernel_width", "static_solve", "skip_failed_solves"},
                   "method \"sketch\" (method is \"simulation_data\")");
   }
-  result.basis_size = basis->required_integer<int>("r", at_least(1), "the basis size");
+  const int basis_size = basis->required_integer<int>("r", at_least(1), "the basis size");
   result.loads = basis->required_string("loads", "the recorded force loads, a CSV file");
   result.loads_path =
       resolve_file(result.loads, basis->at("loads"), context, "load file", /*allow_cgal=*/false);
-  result.metric = basis->choice("metric", result.metric, pca_metrics);
-  result.rank_tolerance = basis->number("rank_tolerance", result.rank_tolerance, half_open(0, 1));
   if (result.method == BasisMethod::sketch) {
     if (!anchored) {
       basis->fail("method",
                   "a sketch basis needs anchors (model.anchors): its static solves need the "
                   "rigid motions removed");
     }
-    result.force_separation = basis->number("force_separation", 0.0, at_least(0.0));
-    result.force_kernel_width = basis->number("force_kernel_width", 0.0, at_least(0.0));
-    result.deformation_separation = basis->number("deformation_separation", 0.0, at_least(0.0));
-    result.deformation_kernel_width = basis->number("deformation_kernel_width", 0.0, at_least(0.0));
-    read_block(*basis, "static_solve", result.static_solve);
-    result.skip_failed_solves = basis->boolean("skip_failed_solves", result.skip_failed_solves);
+    result.sketch.basis_size = basis_size;
+    sketch_settings.read(*basis, result.sketch);
   } else {
+    result.simulation_data_basis_size = basis_size;
+    simulation_data_settings.read(*basis, result.simulation_data);
     result.simulation = read_simulation(*basis);
-    result.fixed_tolerance = basis->number("fixed_tolerance", result.fixed_tolerance, at_least(0));
   }
   return result;
 }

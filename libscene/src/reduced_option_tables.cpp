@@ -1,8 +1,10 @@
 // The option tables of libreduced's structs, and of the scene's own structs that map onto
 // libreduced: an object's model.
+#include "names.hpp"
 #include "option_tables.hpp"
 
-#include <cstdint>
+#include <utility>
+#include <vector>
 
 namespace khz::scene::detail {
 
@@ -60,6 +62,59 @@ const OptionTable<reduced::StaticSolveOptions>& option_table() {
       integer("max_iterations", &O::max_iterations, at_least(1)),
       number("tolerance", &O::tolerance, above(0.0)),
       flag("line_search", &O::line_search),
+  };
+  return table;
+}
+
+template <>
+const OptionTable<reduced::LinearModesOptions>& option_table() {
+  using O = reduced::LinearModesOptions;
+  static const OptionTable<O> table{
+      integer("k", &O::num_modes, at_least(1)),
+      choice("mass", &O::mass, mass_lumpings),
+      number("tolerance", &O::tolerance, at_least(0.0)),
+      integer("max_restarts", &O::max_restarts, at_least(1)),
+  };
+  return table;
+}
+
+template <>
+const OptionTable<reduced::ModalDerivativeBasisOptions>& option_table() {
+  using O = reduced::ModalDerivativeBasisOptions;
+  // r (basis_size) is read by the reader: its bound depends on k and on the anchors.
+  static const OptionTable<O> table = [] {
+    std::vector<OptionEntry<O>> entries =
+        within(&O::modes, option_table<reduced::LinearModesOptions>());
+    entries.push_back(choice("metric", &O::metric, pca_metrics));
+    return OptionTable<O>(std::move(entries));
+  }();
+  return table;
+}
+
+template <>
+const OptionTable<reduced::SketchBasisOptions>& option_table() {
+  using O = reduced::SketchBasisOptions;
+  // r (basis_size) is read by the reader, before the load file, as for simulation_data.
+  static const OptionTable<O> table{
+      choice("metric", &O::metric, pca_metrics),
+      number("rank_tolerance", &O::rank_tolerance, half_open(0.0, 1.0)),
+      number("force_separation", &O::force_separation, at_least(0.0)),
+      number("force_kernel_width", &O::force_kernel_width, at_least(0.0)),
+      number("deformation_separation", &O::deformation_separation, at_least(0.0)),
+      number("deformation_kernel_width", &O::deformation_kernel_width, at_least(0.0)),
+      block("static_solve", &O::static_solve, option_table<reduced::StaticSolveOptions>()),
+      flag("skip_failed_solves", &O::skip_failed_solves),
+  };
+  return table;
+}
+
+template <>
+const OptionTable<reduced::SimulationDataBasisOptions>& option_table() {
+  using O = reduced::SimulationDataBasisOptions;
+  static const OptionTable<O> table{
+      choice("metric", &O::metric, pca_metrics),
+      number("rank_tolerance", &O::rank_tolerance, half_open(0.0, 1.0)),
+      number("fixed_tolerance", &O::fixed_tolerance, at_least(0.0)),
   };
   return table;
 }

@@ -170,26 +170,27 @@ TEST(SceneDescription, ReducedModelDefaultsAreTheLibraryDefaults) {
   const BasisDescription& basis = model.basis;
   EXPECT_EQ(basis.method, BasisMethod::modes);
   EXPECT_TRUE(basis.modal_derivatives);
-  EXPECT_EQ(basis.basis_size, derivative_basis.basis_size);
-  EXPECT_EQ(basis.num_modes, derivative_basis.modes.num_modes);
-  EXPECT_EQ(basis.mass, derivative_basis.modes.mass);
-  EXPECT_EQ(basis.tolerance, derivative_basis.modes.tolerance);
-  EXPECT_EQ(basis.max_restarts, derivative_basis.modes.max_restarts);
-  EXPECT_EQ(basis.metric, derivative_basis.metric);
+  EXPECT_EQ(basis.basis_size(), derivative_basis.basis_size);
+  EXPECT_EQ(basis.modal.modes.num_modes, derivative_basis.modes.num_modes);
+  EXPECT_EQ(basis.modal.modes.mass, derivative_basis.modes.mass);
+  EXPECT_EQ(basis.modal.modes.tolerance, derivative_basis.modes.tolerance);
+  EXPECT_EQ(basis.modal.modes.max_restarts, derivative_basis.modes.max_restarts);
+  EXPECT_EQ(basis.modal.metric, derivative_basis.metric);
 
   const reduced::SketchBasisOptions sketch;
-  EXPECT_EQ(basis.force_separation, sketch.force_separation);
-  EXPECT_EQ(basis.force_kernel_width, sketch.force_kernel_width);
-  EXPECT_EQ(basis.deformation_separation, sketch.deformation_separation);
-  EXPECT_EQ(basis.deformation_kernel_width, sketch.deformation_kernel_width);
-  EXPECT_EQ(basis.rank_tolerance, sketch.rank_tolerance);
-  EXPECT_EQ(basis.skip_failed_solves, sketch.skip_failed_solves);
-  EXPECT_EQ(basis.static_solve.load_steps, sketch.static_solve.load_steps);
-  EXPECT_EQ(basis.static_solve.max_iterations, sketch.static_solve.max_iterations);
-  EXPECT_EQ(basis.static_solve.tolerance, sketch.static_solve.tolerance);
-  EXPECT_EQ(basis.static_solve.line_search, sketch.static_solve.line_search);
+  EXPECT_EQ(basis.sketch.force_separation, sketch.force_separation);
+  EXPECT_EQ(basis.sketch.force_kernel_width, sketch.force_kernel_width);
+  EXPECT_EQ(basis.sketch.deformation_separation, sketch.deformation_separation);
+  EXPECT_EQ(basis.sketch.deformation_kernel_width, sketch.deformation_kernel_width);
+  EXPECT_EQ(basis.sketch.rank_tolerance, sketch.rank_tolerance);
+  EXPECT_EQ(basis.sketch.skip_failed_solves, sketch.skip_failed_solves);
+  EXPECT_EQ(basis.sketch.static_solve.load_steps, sketch.static_solve.load_steps);
+  EXPECT_EQ(basis.sketch.static_solve.max_iterations, sketch.static_solve.max_iterations);
+  EXPECT_EQ(basis.sketch.static_solve.tolerance, sketch.static_solve.tolerance);
+  EXPECT_EQ(basis.sketch.static_solve.line_search, sketch.static_solve.line_search);
   const reduced::SimulationDataBasisOptions simulation;
-  EXPECT_EQ(basis.fixed_tolerance, simulation.fixed_tolerance);
+  EXPECT_EQ(basis.simulation_data.rank_tolerance, simulation.rank_tolerance);
+  EXPECT_EQ(basis.simulation_data.fixed_tolerance, simulation.fixed_tolerance);
   const reduced::FullNewmarkOptions full;
   EXPECT_EQ(basis.simulation.integrator.newmark.time_step, full.newmark.time_step);
   EXPECT_EQ(basis.simulation.integrator.max_newton_iterations, full.max_newton_iterations);
@@ -341,12 +342,12 @@ TEST(SceneDescription, EverySettingReachesItsMember) {
   EXPECT_TRUE(model.anchors[1].normal.isApprox(Eigen::Vector3d::UnitZ()));  // normalized
   EXPECT_TRUE(model.anchors[1].contains(Eigen::Vector3d(5, 5, 0.04)));
   EXPECT_FALSE(model.anchors[1].contains(Eigen::Vector3d(0, 0, 0.039)));
-  EXPECT_EQ(model.basis.num_modes, 4);
-  EXPECT_EQ(model.basis.basis_size, 10);
-  EXPECT_EQ(model.basis.mass, reduced::MassLumping::lumped);
-  EXPECT_EQ(model.basis.metric, reduced::PcaMetric::euclidean);
-  EXPECT_EQ(model.basis.tolerance, 1e-9);
-  EXPECT_EQ(model.basis.max_restarts, 10);
+  EXPECT_EQ(model.basis.modal.modes.num_modes, 4);
+  EXPECT_EQ(model.basis.basis_size(), 10);
+  EXPECT_EQ(model.basis.modal.modes.mass, reduced::MassLumping::lumped);
+  EXPECT_EQ(model.basis.modal.metric, reduced::PcaMetric::euclidean);
+  EXPECT_EQ(model.basis.modal.modes.tolerance, 1e-9);
+  EXPECT_EQ(model.basis.modal.modes.max_restarts, 10);
   EXPECT_EQ(model.integrator.newmark.time_step, 0.002);
   EXPECT_EQ(model.integrator.newmark.mass_damping, 0.5);
   EXPECT_EQ(model.integrator.newmark.stiffness_damping, 0.01);
@@ -434,7 +435,7 @@ TEST(SceneDescription, DerivedDefaults) {
   // Without derivatives, r defaults to k.
   scene = reduced_scene();
   scene["objects"][0]["model"]["basis"] = {{"k", 7}, {"modal_derivatives", false}};
-  EXPECT_EQ(parse(scene).objects[0].model.basis.basis_size, 7);
+  EXPECT_EQ(parse(scene).objects[0].model.basis.basis_size(), 7);
 
   // "points" picks n₀ = round(3N / (4ᴸ − 1)).
   scene = minimal_scene();
@@ -463,19 +464,19 @@ TEST(SceneDescription, SketchAndSimulationDataBases) {
   SceneDescription s = parse(scene);
   const BasisDescription& sketch = s.objects[0].model.basis;
   EXPECT_EQ(sketch.method, BasisMethod::sketch);
-  EXPECT_EQ(sketch.basis_size, 2);
+  EXPECT_EQ(sketch.basis_size(), 2);
   EXPECT_EQ(sketch.loads, "loads.csv");
   EXPECT_EQ(sketch.loads_path, (test::test_file("scenes") / "loads.csv").lexically_normal());
-  EXPECT_EQ(sketch.force_separation, 0.5);
-  EXPECT_EQ(sketch.static_solve.load_steps, 4);
-  EXPECT_TRUE(sketch.skip_failed_solves);
+  EXPECT_EQ(sketch.sketch.force_separation, 0.5);
+  EXPECT_EQ(sketch.sketch.static_solve.load_steps, 4);
+  EXPECT_TRUE(sketch.sketch.skip_failed_solves);
 
   model["basis"] = Json::parse(R"({"method": "simulation_data", "r": 3, "loads": "loads.csv",
       "simulation": {"hold_steps": 20, "release_steps": 30, "snapshot_every": 5}})");
   s = parse(scene);
   const BasisDescription& simulation = s.objects[0].model.basis;
   EXPECT_EQ(simulation.method, BasisMethod::simulation_data);
-  EXPECT_EQ(simulation.basis_size, 3);
+  EXPECT_EQ(simulation.basis_size(), 3);
   EXPECT_EQ(simulation.simulation.hold_steps, 20);
   EXPECT_EQ(simulation.simulation.release_steps, 30);
   EXPECT_EQ(simulation.simulation.snapshot_every, 5);

@@ -24,8 +24,10 @@ void describe_model(const scene::ModelDescription& model) {
     return;
   }
   out << "reduced, " << scene::basis_method_name(model.basis.method)
-      << " basis, r = " << model.basis.basis_size;
-  if (model.basis.method == scene::BasisMethod::modes) out << ", k = " << model.basis.num_modes;
+      << " basis, r = " << model.basis.basis_size();
+  if (model.basis.method == scene::BasisMethod::modes) {
+    out << ", k = " << model.basis.modal.modes.num_modes;
+  }
   out << "\n";
 }
 
