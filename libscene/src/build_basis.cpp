@@ -15,34 +15,22 @@
 namespace khz::scene::detail {
 namespace {
 
-reduced::LinearModesOptions linear_modes_options(const BasisDescription& basis) {
-  reduced::LinearModesOptions options;
-  options.num_modes = basis.num_modes;
-  options.mass = basis.mass;
-  options.tolerance = basis.tolerance;
-  options.max_restarts = basis.max_restarts;
-  return options;
-}
-
 reduced::Basis modes_basis(const reduced::FemModel& fem, std::span<const int> fixed_vertices,
                            const BasisDescription& basis,
                            const reduced::ProgressCallback& progress) {
   if (basis.modal_derivatives) {
-    reduced::ModalDerivativeBasisOptions options;
-    options.basis_size = basis.basis_size;
-    options.metric = basis.metric;
-    options.modes = linear_modes_options(basis);
+    reduced::ModalDerivativeBasisOptions options = basis.modal;
     options.progress = progress;
     return reduced::modal_derivative_basis(fem, fixed_vertices, options);
   }
-  reduced::LinearModesOptions options = linear_modes_options(basis);
+  reduced::LinearModesOptions options = basis.modal.modes;
   options.progress = progress;
   const reduced::LinearModes modes = reduced::compute_linear_modes(fem, fixed_vertices, options);
   reduced::Basis result;
-  result.vectors = modes.modes.leftCols(basis.basis_size);
+  result.vectors = modes.modes.leftCols(basis.modal.basis_size);
   result.fixed_vertices = modes.fixed_vertices;
-  result.recipe = "linear modes: the first r=" + std::to_string(basis.basis_size) +
-                  " of k=" + std::to_string(basis.num_modes);
+  result.recipe = "linear modes: the first r=" + std::to_string(basis.modal.basis_size) +
+                  " of k=" + std::to_string(options.num_modes);
   return result;
 }
 
@@ -51,19 +39,7 @@ reduced::Basis sketch(const reduced::FemModel& fem, std::span<const int> fixed_v
                       std::string& note) {
   const std::vector<reduced::ForceLoad> loads =
       reduced::read_force_loads(basis.loads_path, fem.mesh().num_vertices());
-  reduced::SketchBasisOptions options;
-  options.force_separation = basis.force_separation;
-  options.force_kernel_width = basis.force_kernel_width;
-  options.deformation_separation = basis.deformation_separation;
-  options.deformation_kernel_width = basis.deformation_kernel_width;
-  options.static_solve.load_steps = basis.static_solve.load_steps;
-  options.static_solve.max_iterations = basis.static_solve.max_iterations;
-  options.static_solve.tolerance = basis.static_solve.tolerance;
-  options.static_solve.line_search = basis.static_solve.line_search;
-  options.basis_size = basis.basis_size;
-  options.metric = basis.metric;
-  options.rank_tolerance = basis.rank_tolerance;
-  options.skip_failed_solves = basis.skip_failed_solves;
+  reduced::SketchBasisOptions options = basis.sketch;
   options.progress = progress;
   reduced::SketchReport report;
   reduced::Basis result = reduced::sketch_basis(fem, fixed_vertices, loads, options, report);
@@ -83,12 +59,7 @@ Eigen::MatrixXd simulation_snapshots(const reduced::FemModel& fem,
   const SimulationRunDescription& run = basis.simulation;
   const std::vector<reduced::ForceLoad> loads =
       reduced::read_force_loads(basis.loads_path, fem.mesh().num_vertices());
-  reduced::FullNewmarkOptions options;
-  options.newmark.time_step = run.time_step;
-  options.newmark.mass_damping = run.mass_damping;
-  options.newmark.stiffness_damping = run.stiffness_damping;
-  options.max_newton_iterations = run.max_newton_iterations;
-  reduced::FullNewmark simulation(fem, fixed_vertices, options);
+  reduced::FullNewmark simulation(fem, fixed_vertices, run.integrator);
 
   const auto total_steps = static_cast<std::int64_t>(loads.size()) *
                            (std::int64_t{run.hold_steps} + std::int64_t{run.release_steps});
@@ -134,12 +105,10 @@ reduced::Basis compute_basis(const reduced::FemModel& fem, std::span<const int> 
   }
   const Eigen::MatrixXd snapshots =
       simulation_snapshots(fem, fixed_vertices, basis, progress, note);
-  reduced::SimulationDataBasisOptions options;
-  options.metric = basis.metric;
-  options.rank_tolerance = basis.rank_tolerance;
-  options.fixed_tolerance = basis.fixed_tolerance;
+  reduced::SimulationDataBasisOptions options = basis.simulation_data;
   options.progress = progress;
-  return reduced::simulation_data_basis(fem, fixed_vertices, snapshots, basis.basis_size, options);
+  return reduced::simulation_data_basis(fem, fixed_vertices, snapshots,
+                                        basis.simulation_data_basis_size, options);
 }
 
 }  // namespace khz::scene::detail

@@ -8,10 +8,7 @@ namespace khz::scene::detail {
 contact::DistanceGrid compute_distance_field(const reduced::TriangleMesh& surface,
                                              const FieldDescription& field,
                                              const reduced::ProgressCallback& progress) {
-  contact::DistanceFieldOptions options;
-  options.cells = field.cells;
-  options.box_expansion = field.box_expansion;
-  options.exact_band = field.exact_band;
+  contact::DistanceFieldOptions options = field.distance;
   options.progress = progress;
   if (!field.soup) return contact::signed_distance_field(surface, options);
   contact::PolygonSoupFieldOptions soup;

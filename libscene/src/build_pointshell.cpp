@@ -29,14 +29,7 @@ std::string repulsion_note(const contact::RepulsionReport& report) {
 contact::Pointshell repulsion(const reduced::TriangleMesh& surface, const ObjectDescription& object,
                               const contact::DistanceGrid& field,
                               const reduced::ProgressCallback& progress, std::string& note) {
-  const PointshellDescription& shell = object.pointshell;
-  contact::RepulsionOptions options;
-  options.first_level_points = shell.first_level_points;
-  options.levels = shell.levels;
-  options.seed = shell.seed;
-  options.max_iterations = shell.max_iterations;
-  options.tolerance = shell.tolerance;
-  options.radius_factor = shell.radius_factor;
+  contact::RepulsionOptions options = object.pointshell.repulsion;
   options.progress = progress;
   contact::RepulsionReport report;
   // A soup's points lie on its offset surface, whose pseudonormals the soup itself lacks.
@@ -64,15 +57,13 @@ contact::Pointshell compute_pointshell(const reduced::TriangleMesh& surface,
       samples = contact::vertex_pointshell(surface);
       break;
     case PointshellMethod::random:
-      samples = contact::random_pointshell(surface, shell.count, shell.seed);
+      samples = contact::random_pointshell(surface, shell.count, shell.nested.seed);
       break;
     case PointshellMethod::voxels:
       samples = contact::voxel_pointshell(surface, shell.cell_size, progress);
       break;
   }
-  contact::NestedLevelOptions nested;
-  nested.schedule = shell.schedule;
-  nested.seed = shell.seed;
+  contact::NestedLevelOptions nested = shell.nested;
   nested.progress = progress;
   return contact::nested_pointshell(samples, nested);
 }

@@ -1,12 +1,12 @@
 #include <khz/scene/content_key.hpp>
 
 #include "names.hpp"
+#include "option_tables.hpp"
 
 #include <khz/reduced/errors.hpp>
 #include <khz/scene/procedural_shape.hpp>
 
 #include <xxhash.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -17,7 +17,8 @@
 namespace khz::scene {
 namespace {
 
-using Json = nlohmann::json;
+using detail::canonical_options;
+using detail::Json;
 
 /// Bumped whenever a key's content or spelling changes, so old cache entries stop matching.
 constexpr int key_version = 1;
@@ -49,66 +50,32 @@ Json geometry_json(const ObjectDescription& object) {
 }
 
 Json field_json(const FieldDescription& field) {
-  Json result = {{"cells", field.cells},
-                 {"box_expansion", field.box_expansion},
-                 {"exact_band", field.exact_band},
-                 {"soup", field.soup}};
+  Json result = canonical_options(field.distance);
+  result["soup"] = field.soup;
   if (field.soup) result["offset"] = field.offset;
   return result;
 }
 
-Json schedule_json(const contact::LevelSchedule& schedule) {
-  return {{"first_level_size", schedule.first_level_size},
-          {"growth", schedule.growth},
-          {"max_levels", schedule.max_levels}};
-}
-
 Json pointshell_json(const ObjectDescription& object) {
   const PointshellDescription& shell = object.pointshell;
-  Json result = {{"method", detail::name_of(shell.method, detail::pointshell_methods)},
-                 {"seed", shell.seed}};
-  switch (shell.method) {
-    case PointshellMethod::repulsion:
-      result["first_level_points"] = shell.first_level_points;
-      result["levels"] = shell.levels;
-      result["max_iterations"] = shell.max_iterations;
-      result["tolerance"] = shell.tolerance;
-      result["radius_factor"] = shell.radius_factor;
-      result["field"] = field_json(object.field);  // the level set the points lie on
-      break;
-    case PointshellMethod::vertices:
-      result["schedule"] = schedule_json(shell.schedule);
-      break;
-    case PointshellMethod::random:
-      result["points"] = shell.count;
-      result["schedule"] = schedule_json(shell.schedule);
-      break;
-    case PointshellMethod::voxels:
-      result["cell_size"] = shell.cell_size;
-      result["schedule"] = schedule_json(shell.schedule);
-      break;
+  Json result = {{"method", detail::name_of(shell.method, detail::pointshell_methods)}};
+  if (shell.method == PointshellMethod::repulsion) {
+    result.update(canonical_options(shell.repulsion));
+    result["field"] = field_json(object.field);  // the level set the points lie on
+    return result;
   }
+  // Key format 1 nests the schedule, beside the seed.
+  result["seed"] = shell.nested.seed;
+  result["schedule"] = canonical_options(shell.nested.schedule);
+  if (shell.method == PointshellMethod::random) result["points"] = shell.count;
+  if (shell.method == PointshellMethod::voxels) result["cell_size"] = shell.cell_size;
   return result;
 }
 
 Json meshing_json(const MeshingDescription& meshing) {
-  Json result = {{"method", detail::name_of(meshing.method, detail::meshing_methods)}};
-  if (meshing.method == MeshingMethod::voxels) {
-    result["resolution"] = meshing.voxels.resolution;
-    result["enlargement"] = meshing.voxels.enlargement;
-    result["fill_interior"] = meshing.voxels.fill_interior;
-  } else {
-    const reduced::TetrahedralizeOptions& tets = meshing.tetrahedra;
-    result["facet_size"] = tets.facet_size;
-    result["facet_distance"] = tets.facet_distance;
-    result["facet_angle"] = tets.facet_angle;
-    result["cell_size"] = tets.cell_size;
-    result["cell_radius_edge_ratio"] = tets.cell_radius_edge_ratio;
-    result["seed"] = tets.seed;
-    result["sliver_bound"] = tets.sliver_bound;
-    result["perturb"] = tets.perturb;
-    result["exude"] = tets.exude;
-  }
+  Json result = meshing.method == MeshingMethod::voxels ? canonical_options(meshing.voxels)
+                                                        : canonical_options(meshing.tetrahedra);
+  result["method"] = detail::name_of(meshing.method, detail::meshing_methods);
   return result;
 }
 
@@ -128,51 +95,31 @@ Json anchors_json(const std::vector<AnchorRegion>& anchors) {
 }
 
 Json basis_json(const BasisDescription& basis) {
-  Json result = {{"method", detail::name_of(basis.method, detail::basis_methods)},
-                 {"r", basis.basis_size}};
-  if (basis.method == BasisMethod::modes) {
-    result["k"] = basis.num_modes;
-    result["modal_derivatives"] = basis.modal_derivatives;
-    result["mass"] = detail::name_of(basis.mass, detail::mass_lumpings);
-    result["tolerance"] = basis.tolerance;
-    result["max_restarts"] = basis.max_restarts;
-    if (basis.modal_derivatives)
-      result["metric"] = detail::name_of(basis.metric, detail::pca_metrics);
-    return result;
+  Json result;
+  switch (basis.method) {
+    case BasisMethod::modes:
+      result = canonical_options(basis.modal);
+      result["modal_derivatives"] = basis.modal_derivatives;
+      if (!basis.modal_derivatives) result.erase("metric");  // the first r modes: no PCA
+      break;
+    case BasisMethod::sketch:
+      result = canonical_options(basis.sketch);
+      result["loads"] = file_hash_hex(basis.loads_path);
+      break;
+    case BasisMethod::simulation_data:
+      result = canonical_options(basis.simulation_data);
+      result["loads"] = file_hash_hex(basis.loads_path);
+      result["simulation"] = canonical_options(basis.simulation);
+      break;
   }
-  result["loads"] = file_hash_hex(basis.loads_path);
-  result["metric"] = detail::name_of(basis.metric, detail::pca_metrics);
-  result["rank_tolerance"] = basis.rank_tolerance;
-  if (basis.method == BasisMethod::sketch) {
-    result["force_separation"] = basis.force_separation;
-    result["force_kernel_width"] = basis.force_kernel_width;
-    result["deformation_separation"] = basis.deformation_separation;
-    result["deformation_kernel_width"] = basis.deformation_kernel_width;
-    result["static_solve"] = {{"load_steps", basis.static_solve.load_steps},
-                              {"max_iterations", basis.static_solve.max_iterations},
-                              {"tolerance", basis.static_solve.tolerance},
-                              {"line_search", basis.static_solve.line_search}};
-    result["skip_failed_solves"] = basis.skip_failed_solves;
-  } else {
-    const SimulationRunDescription& run = basis.simulation;
-    result["simulation"] = {{"hold_steps", run.hold_steps},
-                            {"release_steps", run.release_steps},
-                            {"snapshot_every", run.snapshot_every},
-                            {"time_step", run.time_step},
-                            {"max_newton_iterations", run.max_newton_iterations},
-                            {"mass_damping", run.mass_damping},
-                            {"stiffness_damping", run.stiffness_damping}};
-    result["fixed_tolerance"] = basis.fixed_tolerance;
-  }
+  result["method"] = detail::name_of(basis.method, detail::basis_methods);
+  result["r"] = basis.basis_size();
   return result;
 }
 
 Json model_json(const ModelDescription& model) {
   return {{"meshing", meshing_json(model.meshing)},
-          {"material",
-           {{"young_modulus", model.material.young_modulus},
-            {"poisson_ratio", model.material.poisson_ratio},
-            {"density", model.material.density}}},
+          {"material", canonical_options(model.material)},
           {"anchors", anchors_json(model.anchors)},
           {"basis", basis_json(model.basis)}};
 }

@@ -343,11 +343,11 @@ void fail_choice(const Json& value, const Location& at, std::span<const std::str
 }
 
 ObjectReader::ObjectReader(const Json& value, Location location,
-                           std::initializer_list<std::string_view> known,
+                           std::span<const std::string_view> known,
                            std::initializer_list<Hint> hints)
     : m_value(value), m_location(std::move(location)) {
   if (!value.is_object()) m_location.expected("an object {...}", value);
-  const std::vector<std::string_view> keys(known);
+  const std::vector<std::string_view> keys(known.begin(), known.end());
   for (const auto& member : value.items()) {
     const std::string& key = member.key();
     if (std::find(keys.begin(), keys.end(), key) != keys.end()) continue;
@@ -384,7 +384,7 @@ const Json& ObjectReader::required(std::string_view key, std::string_view what) 
   return value(key);
 }
 
-void ObjectReader::refuse(std::initializer_list<std::string_view> keys,
+void ObjectReader::refuse(std::span<const std::string_view> keys,
                           const std::string& context) const {
   for (const std::string_view key : keys) {
     if (has(key)) fail(key, "applies only to " + context);
@@ -421,7 +421,7 @@ Eigen::Vector3d ObjectReader::required_vector3(std::string_view key, std::string
 }
 
 std::optional<ObjectReader> ObjectReader::object(std::string_view key,
-                                                 std::initializer_list<std::string_view> known,
+                                                 std::span<const std::string_view> known,
                                                  std::initializer_list<Hint> hints) const {
   if (!has(key)) return std::nullopt;
   return ObjectReader(value(key), at(key), known, hints);

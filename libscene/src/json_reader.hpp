@@ -133,9 +133,12 @@ class ObjectReader {
 
   /// @throws SceneError if `value` is not an object, or at its first key not in `known`
   ///         ("did you mean" the closest known key, else the target of the closest hint, else
-  ///         the list of known keys).
-  ObjectReader(const Json& value, Location location, std::initializer_list<std::string_view> known,
+  ///         the list of known keys). On a tie the earlier known key is suggested.
+  ObjectReader(const Json& value, Location location, std::span<const std::string_view> known,
                std::initializer_list<Hint> hints = {});
+  ObjectReader(const Json& value, Location location, std::initializer_list<std::string_view> known,
+               std::initializer_list<Hint> hints = {})
+      : ObjectReader(value, std::move(location), std::span(known.begin(), known.size()), hints) {}
 
   const Location& location() const noexcept { return m_location; }
   /// The location of member `key`.
@@ -150,7 +153,10 @@ class ObjectReader {
     at(key).fail(message);
   }
   /// Fails at the first of `keys` present: "applies only to <context>".
-  void refuse(std::initializer_list<std::string_view> keys, const std::string& context) const;
+  void refuse(std::span<const std::string_view> keys, const std::string& context) const;
+  void refuse(std::initializer_list<std::string_view> keys, const std::string& context) const {
+    refuse(std::span(keys.begin(), keys.size()), context);
+  }
 
   double number(std::string_view key, double fallback, const Bounds& bounds) const;
   double required_number(std::string_view key, const Bounds& bounds, std::string_view what) const;
@@ -172,9 +178,13 @@ class ObjectReader {
     return has(key) ? to_choice(value(key), at(key), table) : fallback;
   }
   /// Member `key` as an object reader, or nothing when absent.
+  std::optional<ObjectReader> object(std::string_view key, std::span<const std::string_view> known,
+                                     std::initializer_list<Hint> hints = {}) const;
   std::optional<ObjectReader> object(std::string_view key,
                                      std::initializer_list<std::string_view> known,
-                                     std::initializer_list<Hint> hints = {}) const;
+                                     std::initializer_list<Hint> hints = {}) const {
+    return object(key, std::span(known.begin(), known.size()), hints);
+  }
   /// Member `key`, which must be an array when present; nullptr when absent.
   const Json* array(std::string_view key) const;
 

@@ -237,10 +237,7 @@ class ObjectPreparer {
     }
     prepared.deformed_field =
         build<contact::DeformedDistanceField>(PrepareStep::deformed_field, [&] {
-          contact::DeformedFieldOptions options;
-          options.proxies = m_object.field.proxies;
-          options.neighbours = m_object.field.neighbours;
-          options.seed = m_object.field.seed;
+          contact::DeformedFieldOptions options = m_object.field.deformed;
           options.progress = progress(PrepareStep::deformed_field);
           std::vector<contact::DistanceGrid> fields;
           fields.push_back(std::move(rest));

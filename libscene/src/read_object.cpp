@@ -1,8 +1,8 @@
 #include "read_object.hpp"
 
 #include "names.hpp"
+#include "option_tables.hpp"
 
-#include <khz/contact/field/deformed_distance_field.hpp>
 #include <khz/reduced/errors.hpp>
 #include <khz/scene/procedural_shape.hpp>
 
@@ -72,48 +72,28 @@ ObjectRoles read_roles(const ObjectReader& object) {
 MaterialDescription read_material(const ObjectReader& model) {
   const ObjectReader material(
       model.required("material", "young_modulus, poisson_ratio and density"), model.at("material"),
-      {"young_modulus", "poisson_ratio", "density"},
+      option_table<MaterialDescription>().keys(),
       {{"E", "young_modulus"}, {"nu", "poisson_ratio"}, {"rho", "density"}});
   MaterialDescription result;
-  result.young_modulus = material.required_number("young_modulus", above(0.0), "E in Pa");
-  result.poisson_ratio =
-      material.required_number("poisson_ratio", open_interval(-1.0, 0.5), "ν in (−1, ½)");
-  result.density = material.required_number("density", above(0.0), "ρ in kg/m³");
+  read_options(material, result);
   return result;
 }
 
 MeshingDescription read_meshing(const ObjectReader& model) {
   MeshingDescription result;
+  const auto& voxel_settings = option_table<reduced::VoxelizeOptions>();
+  const auto& tetrahedra_settings = option_table<reduced::TetrahedralizeOptions>();
   const auto meshing =
-      model.object("meshing",
-                   {"method", "resolution", "enlargement", "fill_interior", "facet_size",
-                    "facet_distance", "facet_angle", "cell_size", "cell_radius_edge_ratio", "seed",
-                    "sliver_bound", "perturb", "exude"},
+      model.object("meshing", KeyList("method", voxel_settings, tetrahedra_settings),
                    {{"cells", "resolution"}, {"box_expansion", "enlargement"}});
   if (!meshing) return result;
   result.method = meshing->choice("method", result.method, meshing_methods);
   if (result.method == MeshingMethod::voxels) {
-    meshing->refuse({"facet_size", "facet_distance", "facet_angle", "cell_size",
-                     "cell_radius_edge_ratio", "seed", "sliver_bound", "perturb", "exude"},
-                    "method \"tetrahedra\" (method is \"voxels\")");
-    reduced::VoxelizeOptions& voxels = result.voxels;
-    voxels.resolution = meshing->integer("resolution", voxels.resolution, closed(1, 1024));
-    voxels.enlargement = meshing->number("enlargement", voxels.enlargement, at_least(1.0));
-    voxels.fill_interior = meshing->boolean("fill_interior", voxels.fill_interior);
+    meshing->refuse(tetrahedra_settings.keys(), "method \"tetrahedra\" (method is \"voxels\")");
+    voxel_settings.read(*meshing, result.voxels);
   } else {
-    meshing->refuse({"resolution", "enlargement", "fill_interior"},
-                    "method \"voxels\" (method is \"tetrahedra\")");
-    reduced::TetrahedralizeOptions& tets = result.tetrahedra;
-    tets.facet_size = meshing->number("facet_size", tets.facet_size, at_least(0.0));
-    tets.facet_distance = meshing->number("facet_distance", tets.facet_distance, at_least(0.0));
-    tets.facet_angle = meshing->number("facet_angle", tets.facet_angle, closed(0.0, 30.0));
-    tets.cell_size = meshing->number("cell_size", tets.cell_size, at_least(0.0));
-    tets.cell_radius_edge_ratio =
-        meshing->number("cell_radius_edge_ratio", tets.cell_radius_edge_ratio, at_least(2.0));
-    tets.seed = meshing->integer<std::uint32_t>("seed", tets.seed, at_least(0.0));
-    tets.sliver_bound = meshing->number("sliver_bound", tets.sliver_bound, at_least(0.0));
-    tets.perturb = meshing->boolean("perturb", tets.perturb);
-    tets.exude = meshing->boolean("exude", tets.exude);
+    meshing->refuse(voxel_settings.keys(), "method \"voxels\" (method is \"tetrahedra\")");
+    tetrahedra_settings.read(*meshing, result.tetrahedra);
   }
   return result;
 }
@@ -152,43 +132,20 @@ std::vector<AnchorRegion> read_anchors(const ObjectReader& model) {
   return result;
 }
 
-StaticSolveDescription read_static_solve(const ObjectReader& basis) {
-  StaticSolveDescription result;
-  const auto solve =
-      basis.object("static_solve", {"load_steps", "max_iterations", "tolerance", "line_search"});
-  if (!solve) return result;
-  result.load_steps = solve->integer("load_steps", result.load_steps, at_least(1));
-  result.max_iterations = solve->integer("max_iterations", result.max_iterations, at_least(1));
-  result.tolerance = solve->number("tolerance", result.tolerance, above(0.0));
-  result.line_search = solve->boolean("line_search", result.line_search);
-  return result;
-}
-
 SimulationRunDescription read_simulation(const ObjectReader& basis) {
   SimulationRunDescription result;
   const ObjectReader run(basis.required("simulation", "the full simulation to take snapshots of"),
-                         basis.at("simulation"),
-                         {"hold_steps", "release_steps", "snapshot_every", "time_step",
-                          "max_newton_iterations", "mass_damping", "stiffness_damping"});
-  result.hold_steps =
-      run.required_integer<int>("hold_steps", at_least(1), "steps each load is applied");
-  result.release_steps = run.integer("release_steps", result.release_steps, at_least(0));
-  result.snapshot_every = run.integer("snapshot_every", result.snapshot_every, at_least(1));
-  result.time_step = run.number("time_step", result.time_step, above(0.0));
-  result.max_newton_iterations =
-      run.integer("max_newton_iterations", result.max_newton_iterations, at_least(1));
-  result.mass_damping = run.number("mass_damping", result.mass_damping, at_least(0.0));
-  result.stiffness_damping =
-      run.number("stiffness_damping", result.stiffness_damping, at_least(0.0));
+                         basis.at("simulation"), option_table<SimulationRunDescription>().keys());
+  read_options(run, result);
   return result;
 }
 
 /// r for a modes basis: bounded by what the modes (and derivatives) span.
 int read_modes_basis_size(const ObjectReader& basis, const BasisDescription& result,
                           bool anchored) {
-  const std::int64_t k = result.num_modes;
+  const std::int64_t k = result.modal.modes.num_modes;
   if (!result.modal_derivatives) {
-    return basis.integer("r", result.num_modes,
+    return basis.integer("r", result.modal.modes.num_modes,
                          with_text(closed(1, static_cast<double>(k)),
                                    "an integer in [1, " + std::to_string(k) + "] (at most k = " +
                                        std::to_string(k) + " without modal derivatives)"));
@@ -196,19 +153,20 @@ int read_modes_basis_size(const ObjectReader& basis, const BasisDescription& res
   const std::int64_t most = anchored ? k + k * (k + 1) / 2 : k + k * k;
   const std::string why = anchored ? "k + k(k+1)/2 for k = " + std::to_string(k) + " with anchors"
                                    : "k + k² for k = " + std::to_string(k) + " without anchors";
-  return basis.integer("r", result.basis_size,
+  return basis.integer("r", result.modal.basis_size,
                        with_text(closed(1, static_cast<double>(most)),
                                  "an integer in [1, " + std::to_string(most) + "] (" + why + ")"));
 }
 
 BasisDescription read_basis(const ObjectReader& model, const ReadContext& context, bool anchored) {
   BasisDescription result;
+  const auto& modal_settings = option_table<reduced::ModalDerivativeBasisOptions>();
+  const auto& sketch_settings = option_table<reduced::SketchBasisOptions>();
+  const auto& simulation_data_settings = option_table<reduced::SimulationDataBasisOptions>();
   const auto basis =
       model.object("basis",
-                   {"method", "r", "k", "modal_derivatives", "mass", "tolerance", "max_restarts",
-                    "metric", "rank_tolerance", "loads", "force_separation", "force_kernel_width",
-                    "deformation_separation", "deformation_kernel_width", "static_solve",
-                    "skip_failed_solves", "simulation", "fixed_tolerance"},
+                   KeyList("method", "r", modal_settings, "modal_derivatives", "loads",
+                           sketch_settings, "simulation", simulation_data_settings),
                    {{"num_modes", "k"}, {"basis_size", "r"}, {"derivatives", "modal_derivatives"}});
   if (!basis) return result;
   result.method = basis->choice("method", result.method, basis_methods);
@@ -221,18 +179,14 @@ BasisDescription read_basis(const ObjectReader& model, const ReadContext& contex
                   "method \"simulation_data\" (method is \"modes\")");
     basis->refuse({"rank_tolerance"},
                   "methods \"sketch\" and \"simulation_data\" (method is \"modes\")");
-    result.num_modes = basis->integer("k", result.num_modes, at_least(1));
     result.modal_derivatives = basis->boolean("modal_derivatives", result.modal_derivatives);
-    result.mass = basis->choice("mass", result.mass, mass_lumpings);
-    result.tolerance = basis->number("tolerance", result.tolerance, at_least(0.0));
-    result.max_restarts = basis->integer("max_restarts", result.max_restarts, at_least(1));
     if (!result.modal_derivatives) {
       basis->refuse({"metric"},
                     "modal derivatives (their mass-PCA); without them the basis is the first r "
                     "modes");
     }
-    result.metric = basis->choice("metric", result.metric, pca_metrics);
-    result.basis_size = read_modes_basis_size(*basis, result, anchored);
+    modal_settings.read(*basis, result.modal);
+    result.modal.basis_size = read_modes_basis_size(*basis, result, anchored);
     return result;
   }
   basis->refuse({"k", "modal_derivatives", "mass", "tolerance", "max_restarts"},
@@ -245,27 +199,22 @@ BasisDescription read_basis(const ObjectReader& model, const ReadContext& contex
                    "deformation_kernel_width", "static_solve", "skip_failed_solves"},
                   "method \"sketch\" (method is \"simulation_data\")");
   }
-  result.basis_size = basis->required_integer<int>("r", at_least(1), "the basis size");
+  const int basis_size = basis->required_integer<int>("r", at_least(1), "the basis size");
   result.loads = basis->required_string("loads", "the recorded force loads, a CSV file");
   result.loads_path =
       resolve_file(result.loads, basis->at("loads"), context, "load file", /*allow_cgal=*/false);
-  result.metric = basis->choice("metric", result.metric, pca_metrics);
-  result.rank_tolerance = basis->number("rank_tolerance", result.rank_tolerance, half_open(0, 1));
   if (result.method == BasisMethod::sketch) {
     if (!anchored) {
       basis->fail("method",
                   "a sketch basis needs anchors (model.anchors): its static solves need the "
                   "rigid motions removed");
     }
-    result.force_separation = basis->number("force_separation", 0.0, at_least(0.0));
-    result.force_kernel_width = basis->number("force_kernel_width", 0.0, at_least(0.0));
-    result.deformation_separation = basis->number("deformation_separation", 0.0, at_least(0.0));
-    result.deformation_kernel_width = basis->number("deformation_kernel_width", 0.0, at_least(0.0));
-    result.static_solve = read_static_solve(*basis);
-    result.skip_failed_solves = basis->boolean("skip_failed_solves", result.skip_failed_solves);
+    result.sketch.basis_size = basis_size;
+    sketch_settings.read(*basis, result.sketch);
   } else {
+    result.simulation_data_basis_size = basis_size;
+    simulation_data_settings.read(*basis, result.simulation_data);
     result.simulation = read_simulation(*basis);
-    result.fixed_tolerance = basis->number("fixed_tolerance", result.fixed_tolerance, at_least(0));
   }
   return result;
 }
@@ -274,24 +223,8 @@ reduced::ReducedNewmarkOptions read_integrator(const ObjectReader& model,
                                                const ReadContext& context) {
   reduced::ReducedNewmarkOptions result;
   result.newmark.time_step = 1.0 / context.rate_hz;
-  const auto integrator =
-      model.object("integrator",
-                   {"time_step", "beta", "gamma", "mass_damping", "stiffness_damping",
-                    "max_newton_iterations", "tolerance", "acceleration_limit"},
-                   {{"damping", "mass_damping"}, {"newton_iterations", "max_newton_iterations"}});
-  if (!integrator) return result;
-  reduced::NewmarkParameters& newmark = result.newmark;
-  newmark.time_step = integrator->number("time_step", newmark.time_step, above(0.0));
-  newmark.beta = integrator->number("beta", newmark.beta, open_closed(0.0, 0.5));
-  newmark.gamma = integrator->number("gamma", newmark.gamma, closed(0.0, 1.0));
-  newmark.mass_damping = integrator->number("mass_damping", newmark.mass_damping, at_least(0.0));
-  newmark.stiffness_damping =
-      integrator->number("stiffness_damping", newmark.stiffness_damping, at_least(0.0));
-  result.max_newton_iterations =
-      integrator->integer("max_newton_iterations", result.max_newton_iterations, at_least(1));
-  result.tolerance = integrator->number("tolerance", result.tolerance, above(0.0));
-  result.acceleration_limit =
-      integrator->number("acceleration_limit", result.acceleration_limit, above(0.0));
+  read_block(model, "integrator", result,
+             {{"damping", "mass_damping"}, {"newton_iterations", "max_newton_iterations"}});
   return result;
 }
 
@@ -325,13 +258,12 @@ PointshellDescription read_pointshell(const ObjectReader& object) {
   PointshellDescription result;
   const auto shell =
       object.object("pointshell",
-                    {"method", "first_level_points", "points", "levels", "growth", "seed",
-                     "max_iterations", "tolerance", "radius_factor", "cell_size"},
+                    KeyList("method", option_table<contact::RepulsionOptions>(), "points",
+                            option_table<contact::NestedLevelOptions>(), "cell_size"),
                     {{"count", "points"}, {"first_level_size", "first_level_points"}});
   if (!shell) return result;
   result.method = shell->choice("method", result.method, pointshell_methods);
   const std::string method = in_quotes(name_of(result.method, pointshell_methods));
-  result.seed = shell->seed("seed", result.seed);
   if (result.method == PointshellMethod::repulsion) {
     shell->refuse({"growth"},
                   "the methods \"vertices\", \"random\" and \"voxels\" (repulsion's levels grow "
@@ -340,29 +272,26 @@ PointshellDescription read_pointshell(const ObjectReader& object) {
     if (shell->has("first_level_points") && shell->has("points")) {
       shell->fail("points", "give either \"first_level_points\" or \"points\", not both");
     }
-    result.levels = shell->integer("levels", result.levels, at_least(1));
-    const double level_factor = (std::pow(4.0, result.levels) - 1.0) / 3.0;  // N = n₀ × this
+    contact::RepulsionOptions& repulsion = result.repulsion;
+    read_options(*shell, repulsion);
+    // "points" is the scene's own way to give n₀: through the total over all levels.
+    const double level_factor = (std::pow(4.0, repulsion.levels) - 1.0) / 3.0;  // N = n₀ × this
     std::string_view count_key = "levels";
     if (shell->has("points")) {
       count_key = "points";
       const auto points = shell->integer<Eigen::Index>("points", 0, closed(1, most_points));
-      result.first_level_points =
+      repulsion.first_level_points =
           std::max<Eigen::Index>(1, std::llround(static_cast<double>(points) / level_factor));
     } else if (shell->has("first_level_points")) {
       count_key = "first_level_points";
-      result.first_level_points =
-          shell->integer<Eigen::Index>("first_level_points", 0, at_least(1));
     }
-    const double total = static_cast<double>(result.first_level_points) * level_factor;
+    const double total = static_cast<double>(repulsion.first_level_points) * level_factor;
     if (total > most_points) {
-      shell->fail(count_key, "n₀(4ᴸ − 1)/3 = " + format_number(total) +
-                                 " points for n₀ = " + std::to_string(result.first_level_points) +
-                                 " and L = " + std::to_string(result.levels) +
+      shell->fail(count_key, "n₀(4ᴸ − 1)/3 = " + format_number(total) + " points for n₀ = " +
+                                 std::to_string(repulsion.first_level_points) +
+                                 " and L = " + std::to_string(repulsion.levels) +
                                  ": expected at most 2147483647 points in all");
     }
-    result.max_iterations = shell->integer("max_iterations", result.max_iterations, at_least(1));
-    result.tolerance = shell->number("tolerance", result.tolerance, open_interval(0.0, 1.0));
-    result.radius_factor = shell->number("radius_factor", result.radius_factor, closed(1.0, 4.0));
     return result;
   }
   shell->refuse({"max_iterations", "tolerance", "radius_factor"},
@@ -379,19 +308,16 @@ PointshellDescription read_pointshell(const ObjectReader& object) {
   } else if (result.method == PointshellMethod::voxels) {
     result.cell_size = shell->required_number("cell_size", above(0.0), "the voxels' side in m");
   }
-  contact::LevelSchedule& schedule = result.schedule;
-  schedule.first_level_size =
-      shell->integer<Eigen::Index>("first_level_points", schedule.first_level_size, at_least(1));
-  schedule.growth = shell->integer("growth", schedule.growth, at_least(2));
-  schedule.max_levels = shell->integer("levels", schedule.max_levels, at_least(0));
+  read_options(*shell, result.nested);
   return result;
 }
 
 FieldDescription read_field(const ObjectReader& object, const ObjectDescription& description) {
   FieldDescription result;
+  const auto& deformed_settings = option_table<contact::DeformedFieldOptions>();
   const auto field = object.object(
       "field",
-      {"cells", "box_expansion", "exact_band", "soup", "offset", "proxies", "neighbours", "seed"},
+      KeyList(option_table<contact::DistanceFieldOptions>(), "soup", "offset", deformed_settings),
       {{"resolution", "cells"},
        {"enlargement", "box_expansion"},
        {"expansion", "box_expansion"},
@@ -399,24 +325,14 @@ FieldDescription read_field(const ObjectReader& object, const ObjectDescription&
        {"k", "neighbours"}});
   if (!field) return result;
   if (!description.is_reduced() || !description.roles.distance_field) {
-    field->refuse({"proxies", "neighbours", "seed"},
+    field->refuse(deformed_settings.keys(),
                   "a reduced object with the distance_field role (its deformed field's proxies)");
   }
-  result.cells = field->integer("cells", result.cells, closed(1, 32768));
-  result.box_expansion = field->number("box_expansion", result.box_expansion, at_least(1.0));
-  result.exact_band =
-      field->number("exact_band", result.exact_band,
-                    with_text(at_least(std::sqrt(3.0)), "a number ≥ √3 ≈ 1.732 (cell spacings)"));
+  read_options(*field, result.distance);
   result.soup = field->boolean("soup", result.soup);
   if (!result.soup) field->refuse({"offset"}, "polygon soups (\"soup\": true)");
   result.offset = field->number("offset", result.offset, at_least(0.0));
-  result.neighbours = field->integer("neighbours", result.neighbours,
-                                     closed(2, contact::DeformedFieldOptions::max_neighbours));
-  result.proxies = field->integer<Eigen::Index>(
-      "proxies", result.proxies,
-      with_text(at_least(static_cast<double>(result.neighbours)),
-                "an integer ≥ neighbours (" + std::to_string(result.neighbours) + ")"));
-  result.seed = field->seed("seed", result.seed);
+  deformed_settings.read(*field, result.deformed);
   return result;
 }
 

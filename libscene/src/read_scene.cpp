@@ -2,6 +2,7 @@
 
 #include "json_reader.hpp"
 #include "names.hpp"
+#include "option_tables.hpp"
 #include "read_common.hpp"
 #include "read_device.hpp"
 #include "read_object.hpp"
@@ -20,8 +21,11 @@ namespace {
 
 using detail::in_quotes;
 using detail::Json;
+using detail::KeyList;
 using detail::Location;
 using detail::ObjectReader;
+using detail::option_table;
+using detail::read_options;
 using detail::ReadContext;
 
 std::string role_name(contact::HapticObject role) {
@@ -46,16 +50,12 @@ std::string roles_text(const ObjectDescription& object) {
 }
 
 void read_loop(const ObjectReader& root, SceneDescription& scene) {
-  const auto loop =
-      root.object("loop", {"rate_hz", "duration", "realtime_priority", "priority", "cpu"},
-                  {{"rate", "rate_hz"}, {"frequency", "rate_hz"}});
+  // "duration" is the scene's: how long khz runs, not how the loop runs.
+  const auto loop = root.object("loop", KeyList(option_table<haptic::LoopOptions>(), "duration"),
+                                {{"rate", "rate_hz"}, {"frequency", "rate_hz"}});
   if (!loop) return;
-  haptic::LoopOptions& options = scene.loop;
-  options.rate_hz = loop->number("rate_hz", options.rate_hz, detail::open_closed(0.0, 100000.0));
+  read_options(*loop, scene.loop);
   scene.duration = loop->number("duration", scene.duration, detail::at_least(0.0));
-  options.realtime_priority = loop->boolean("realtime_priority", options.realtime_priority);
-  options.priority = loop->integer("priority", options.priority, detail::closed(1, 99));
-  options.cpu = loop->integer("cpu", options.cpu, detail::at_least(-1));
 }
 
 void read_objects(const ObjectReader& root, const ReadContext& context, SceneDescription& scene) {
@@ -216,22 +216,18 @@ void read_contact(const ObjectReader& root, SceneDescription& scene) {
   contact::ContactOptions& options = scene.contact;
   options.haptic_object = scene.haptic.front().role;
   const auto contact = root.object(
-      "contact",
-      {"stiffness", "scaling_count", "max_level", "gradient", "degradation", "coherence"},
+      "contact", KeyList(option_table<contact::ContactOptions>(), "degradation", "coherence"),
       {{"haptic_object", "haptic.role"}, {"temporal_coherence", "coherence"}});
   if (!contact) return;
-  options.stiffness = contact->number("stiffness", options.stiffness, detail::above(0.0));
-  options.scaling_count =
-      contact->number("scaling_count", options.scaling_count, detail::above(0.0));
-  options.max_level = contact->integer("max_level", options.max_level, detail::at_least(-1));
-  options.gradient = contact->choice("gradient", options.gradient, detail::contact_gradients);
-  if (const auto degradation = contact->object(
-          "degradation",
-          {"mode", "warm_threshold", "budget_microseconds", "cold_fraction", "contact_weight"},
-          {{"budget", "budget_microseconds"}, {"threshold", "warm_threshold"}})) {
+  read_options(*contact, options);
+  // Which keys of these two blocks apply depends on their first setting, read first.
+  const auto& degradation_settings = option_table<contact::DegradationOptions>();
+  if (const auto degradation =
+          contact->object("degradation", degradation_settings.keys(),
+                          {{"budget", "budget_microseconds"}, {"threshold", "warm_threshold"}})) {
     contact::DegradationOptions& d = options.degradation;
     using Mode = contact::DegradationOptions::Mode;
-    d.mode = degradation->choice("mode", d.mode, detail::degradation_modes);
+    degradation_settings.read(*degradation, d, "mode");
     const std::string mode = in_quotes(detail::name_of(d.mode, detail::degradation_modes));
     if (d.mode != Mode::node_count) {
       degradation->refuse({"warm_threshold"}, "mode \"node_count\" (mode is " + mode + ")");
@@ -243,73 +239,33 @@ void read_contact(const ObjectReader& root, SceneDescription& scene) {
       degradation->refuse({"cold_fraction", "contact_weight"},
                           "modes \"node_count\" and \"time_budget\" (mode is \"none\")");
     }
-    d.warm_threshold = degradation->number("warm_threshold", d.warm_threshold, detail::above(0.0));
-    d.budget_microseconds =
-        degradation->number("budget_microseconds", d.budget_microseconds, detail::above(0.0));
-    d.cold_fraction =
-        degradation->number("cold_fraction", d.cold_fraction, detail::open_closed(0.0, 1.0));
-    d.contact_weight =
-        degradation->number("contact_weight", d.contact_weight, detail::at_least(0.0));
+    degradation_settings.read(*degradation, d);
   }
-  if (const auto coherence =
-          contact->object("coherence", {"enabled", "max_translation", "max_rotation",
-                                        "max_deformation", "max_field_deformation", "max_skip"})) {
+  const auto& coherence_settings = option_table<contact::CoherenceOptions>();
+  if (const auto coherence = contact->object("coherence", coherence_settings.keys())) {
     contact::CoherenceOptions& c = options.coherence;
-    c.enabled = coherence->boolean("enabled", c.enabled);
+    coherence_settings.read(*coherence, c, "enabled");
     if (!c.enabled) {
       coherence->refuse({"max_translation", "max_rotation", "max_deformation",
                          "max_field_deformation", "max_skip"},
                         "enabled temporal coherence (\"enabled\": true)");
     }
-    c.max_translation =
-        coherence->number("max_translation", c.max_translation, detail::at_least(0.0));
-    c.max_rotation = coherence->number("max_rotation", c.max_rotation, detail::at_least(0.0));
-    c.max_deformation =
-        coherence->number("max_deformation", c.max_deformation, detail::at_least(0.0));
-    c.max_field_deformation =
-        coherence->number("max_field_deformation", c.max_field_deformation, detail::at_least(0.0));
-    c.max_skip = coherence->integer("max_skip", c.max_skip, detail::closed(1, 1 << 20));
+    coherence_settings.read(*coherence, c);
   }
 }
 
 void read_coupling(const ObjectReader& root, SceneDescription& scene) {
   haptic::CouplingOptions& options = scene.coupling;
   options.period = 1.0 / scene.loop.rate_hz;
-  const auto coupling = root.object(
-      "coupling",
-      {"stiffness", "torque_stiffness", "static_damping", "max_speed", "max_angular_speed",
-       "saturation_force", "object_radius", "max_rendered_force", "max_rendered_torque",
-       "device_max_stiffness", "degenerate_threshold", "rotation_length"},
-      {{"period", "loop.rate_hz"}, {"damping", "static_damping"}});
-  if (!coupling) return;
-  const detail::Bounds positive = detail::above(0.0);
-  options.stiffness = coupling->number("stiffness", options.stiffness, positive);
-  options.torque_stiffness =
-      coupling->number("torque_stiffness", options.torque_stiffness, positive);
-  options.static_damping =
-      coupling->number("static_damping", options.static_damping, detail::half_open(0.0, 1.0));
-  options.max_speed = coupling->number("max_speed", options.max_speed, positive);
-  options.max_angular_speed =
-      coupling->number("max_angular_speed", options.max_angular_speed, positive);
-  options.saturation_force =
-      coupling->number("saturation_force", options.saturation_force, positive);
-  options.object_radius = coupling->number("object_radius", options.object_radius, positive);
-  options.max_rendered_force =
-      coupling->number("max_rendered_force", options.max_rendered_force, positive);
-  options.max_rendered_torque =
-      coupling->number("max_rendered_torque", options.max_rendered_torque, positive);
-  options.device_max_stiffness =
-      coupling->number("device_max_stiffness", options.device_max_stiffness, positive);
-  options.degenerate_threshold = coupling->number(
-      "degenerate_threshold", options.degenerate_threshold, detail::open_interval(0.0, 1.0));
-  options.rotation_length =
-      coupling->number("rotation_length", options.rotation_length, detail::at_least(0.0));
+  detail::read_block(root, "coupling", options,
+                     {{"period", "loop.rate_hz"}, {"damping", "static_damping"}});
   if (options.stiffness > options.device_max_stiffness) {
-    coupling->fail("stiffness",
-                   "expected at most device_max_stiffness = " +
-                       detail::format_number(options.device_max_stiffness) +
-                       " N/m (k_VC bounds the stiffness the device renders, thesis §4.7), got " +
-                       detail::format_number(options.stiffness));
+    root.at("coupling")
+        .child("stiffness")
+        .fail("expected at most device_max_stiffness = " +
+              detail::format_number(options.device_max_stiffness) +
+              " N/m (k_VC bounds the stiffness the device renders, thesis §4.7), got " +
+              detail::format_number(options.stiffness));
   }
 }
 

@@ -121,28 +121,29 @@ TEST(SceneDescription, ObjectDefaultsAreTheLibraryDefaults) {
   const contact::PolygonSoupFieldOptions soup_options;
   const contact::DeformedFieldOptions deformed_options;
   const FieldDescription& field = scene.objects[1].field;
-  EXPECT_EQ(field.cells, field_options.cells);
-  EXPECT_EQ(field.box_expansion, field_options.box_expansion);
-  EXPECT_EQ(field.exact_band, field_options.exact_band);
+  EXPECT_EQ(field.distance.cells, field_options.cells);
+  EXPECT_EQ(field.distance.box_expansion, field_options.box_expansion);
+  EXPECT_EQ(field.distance.exact_band, field_options.exact_band);
   EXPECT_FALSE(field.soup);
   EXPECT_EQ(field.offset, soup_options.offset);
-  EXPECT_EQ(field.proxies, deformed_options.proxies);
-  EXPECT_EQ(field.neighbours, deformed_options.neighbours);
-  EXPECT_EQ(field.seed, deformed_options.seed);
+  EXPECT_EQ(field.deformed.proxies, deformed_options.proxies);
+  EXPECT_EQ(field.deformed.neighbours, deformed_options.neighbours);
+  EXPECT_EQ(field.deformed.seed, deformed_options.seed);
 
   const contact::RepulsionOptions repulsion;
   const PointshellDescription& shell = tool.pointshell;
   EXPECT_EQ(shell.method, PointshellMethod::repulsion);
-  EXPECT_EQ(shell.first_level_points, repulsion.first_level_points);
-  EXPECT_EQ(shell.levels, repulsion.levels);
-  EXPECT_EQ(shell.seed, repulsion.seed);
-  EXPECT_EQ(shell.max_iterations, repulsion.max_iterations);
-  EXPECT_EQ(shell.tolerance, repulsion.tolerance);
-  EXPECT_EQ(shell.radius_factor, repulsion.radius_factor);
-  const contact::LevelSchedule schedule;
-  EXPECT_EQ(shell.schedule.first_level_size, schedule.first_level_size);
-  EXPECT_EQ(shell.schedule.growth, schedule.growth);
-  EXPECT_EQ(shell.schedule.max_levels, schedule.max_levels);
+  EXPECT_EQ(shell.repulsion.first_level_points, repulsion.first_level_points);
+  EXPECT_EQ(shell.repulsion.levels, repulsion.levels);
+  EXPECT_EQ(shell.repulsion.seed, repulsion.seed);
+  EXPECT_EQ(shell.repulsion.max_iterations, repulsion.max_iterations);
+  EXPECT_EQ(shell.repulsion.tolerance, repulsion.tolerance);
+  EXPECT_EQ(shell.repulsion.radius_factor, repulsion.radius_factor);
+  const contact::NestedLevelOptions nested;
+  EXPECT_EQ(shell.nested.seed, nested.seed);
+  EXPECT_EQ(shell.nested.schedule.first_level_size, nested.schedule.first_level_size);
+  EXPECT_EQ(shell.nested.schedule.growth, nested.schedule.growth);
+  EXPECT_EQ(shell.nested.schedule.max_levels, nested.schedule.max_levels);
   EXPECT_TRUE(tool.uses_field());  // repulsion samples the level set of its own field
   EXPECT_TRUE(scene.objects[1].uses_field());
 }
@@ -169,29 +170,30 @@ TEST(SceneDescription, ReducedModelDefaultsAreTheLibraryDefaults) {
   const BasisDescription& basis = model.basis;
   EXPECT_EQ(basis.method, BasisMethod::modes);
   EXPECT_TRUE(basis.modal_derivatives);
-  EXPECT_EQ(basis.basis_size, derivative_basis.basis_size);
-  EXPECT_EQ(basis.num_modes, derivative_basis.modes.num_modes);
-  EXPECT_EQ(basis.mass, derivative_basis.modes.mass);
-  EXPECT_EQ(basis.tolerance, derivative_basis.modes.tolerance);
-  EXPECT_EQ(basis.max_restarts, derivative_basis.modes.max_restarts);
-  EXPECT_EQ(basis.metric, derivative_basis.metric);
+  EXPECT_EQ(basis.basis_size(), derivative_basis.basis_size);
+  EXPECT_EQ(basis.modal.modes.num_modes, derivative_basis.modes.num_modes);
+  EXPECT_EQ(basis.modal.modes.mass, derivative_basis.modes.mass);
+  EXPECT_EQ(basis.modal.modes.tolerance, derivative_basis.modes.tolerance);
+  EXPECT_EQ(basis.modal.modes.max_restarts, derivative_basis.modes.max_restarts);
+  EXPECT_EQ(basis.modal.metric, derivative_basis.metric);
 
   const reduced::SketchBasisOptions sketch;
-  EXPECT_EQ(basis.force_separation, sketch.force_separation);
-  EXPECT_EQ(basis.force_kernel_width, sketch.force_kernel_width);
-  EXPECT_EQ(basis.deformation_separation, sketch.deformation_separation);
-  EXPECT_EQ(basis.deformation_kernel_width, sketch.deformation_kernel_width);
-  EXPECT_EQ(basis.rank_tolerance, sketch.rank_tolerance);
-  EXPECT_EQ(basis.skip_failed_solves, sketch.skip_failed_solves);
-  EXPECT_EQ(basis.static_solve.load_steps, sketch.static_solve.load_steps);
-  EXPECT_EQ(basis.static_solve.max_iterations, sketch.static_solve.max_iterations);
-  EXPECT_EQ(basis.static_solve.tolerance, sketch.static_solve.tolerance);
-  EXPECT_EQ(basis.static_solve.line_search, sketch.static_solve.line_search);
+  EXPECT_EQ(basis.sketch.force_separation, sketch.force_separation);
+  EXPECT_EQ(basis.sketch.force_kernel_width, sketch.force_kernel_width);
+  EXPECT_EQ(basis.sketch.deformation_separation, sketch.deformation_separation);
+  EXPECT_EQ(basis.sketch.deformation_kernel_width, sketch.deformation_kernel_width);
+  EXPECT_EQ(basis.sketch.rank_tolerance, sketch.rank_tolerance);
+  EXPECT_EQ(basis.sketch.skip_failed_solves, sketch.skip_failed_solves);
+  EXPECT_EQ(basis.sketch.static_solve.load_steps, sketch.static_solve.load_steps);
+  EXPECT_EQ(basis.sketch.static_solve.max_iterations, sketch.static_solve.max_iterations);
+  EXPECT_EQ(basis.sketch.static_solve.tolerance, sketch.static_solve.tolerance);
+  EXPECT_EQ(basis.sketch.static_solve.line_search, sketch.static_solve.line_search);
   const reduced::SimulationDataBasisOptions simulation;
-  EXPECT_EQ(basis.fixed_tolerance, simulation.fixed_tolerance);
+  EXPECT_EQ(basis.simulation_data.rank_tolerance, simulation.rank_tolerance);
+  EXPECT_EQ(basis.simulation_data.fixed_tolerance, simulation.fixed_tolerance);
   const reduced::FullNewmarkOptions full;
-  EXPECT_EQ(basis.simulation.time_step, full.newmark.time_step);
-  EXPECT_EQ(basis.simulation.max_newton_iterations, full.max_newton_iterations);
+  EXPECT_EQ(basis.simulation.integrator.newmark.time_step, full.newmark.time_step);
+  EXPECT_EQ(basis.simulation.integrator.max_newton_iterations, full.max_newton_iterations);
 
   // The integrator: the library's defaults, but the time step is the loop's period.
   const reduced::ReducedNewmarkOptions newmark;
@@ -340,29 +342,29 @@ TEST(SceneDescription, EverySettingReachesItsMember) {
   EXPECT_TRUE(model.anchors[1].normal.isApprox(Eigen::Vector3d::UnitZ()));  // normalized
   EXPECT_TRUE(model.anchors[1].contains(Eigen::Vector3d(5, 5, 0.04)));
   EXPECT_FALSE(model.anchors[1].contains(Eigen::Vector3d(0, 0, 0.039)));
-  EXPECT_EQ(model.basis.num_modes, 4);
-  EXPECT_EQ(model.basis.basis_size, 10);
-  EXPECT_EQ(model.basis.mass, reduced::MassLumping::lumped);
-  EXPECT_EQ(model.basis.metric, reduced::PcaMetric::euclidean);
-  EXPECT_EQ(model.basis.tolerance, 1e-9);
-  EXPECT_EQ(model.basis.max_restarts, 10);
+  EXPECT_EQ(model.basis.modal.modes.num_modes, 4);
+  EXPECT_EQ(model.basis.basis_size(), 10);
+  EXPECT_EQ(model.basis.modal.modes.mass, reduced::MassLumping::lumped);
+  EXPECT_EQ(model.basis.modal.metric, reduced::PcaMetric::euclidean);
+  EXPECT_EQ(model.basis.modal.modes.tolerance, 1e-9);
+  EXPECT_EQ(model.basis.modal.modes.max_restarts, 10);
   EXPECT_EQ(model.integrator.newmark.time_step, 0.002);
   EXPECT_EQ(model.integrator.newmark.mass_damping, 0.5);
   EXPECT_EQ(model.integrator.newmark.stiffness_damping, 0.01);
   EXPECT_EQ(model.integrator.max_newton_iterations, 3);
   EXPECT_EQ(model.integrator.acceleration_limit, 1e4);
 
-  EXPECT_EQ(tool.field.cells, 64);
-  EXPECT_EQ(tool.field.box_expansion, 2.0);
-  EXPECT_EQ(tool.field.exact_band, 4.0);
-  EXPECT_EQ(tool.field.proxies, 30);
-  EXPECT_EQ(tool.field.neighbours, 6);
-  EXPECT_EQ(tool.field.seed, std::numeric_limits<std::uint64_t>::max());
+  EXPECT_EQ(tool.field.distance.cells, 64);
+  EXPECT_EQ(tool.field.distance.box_expansion, 2.0);
+  EXPECT_EQ(tool.field.distance.exact_band, 4.0);
+  EXPECT_EQ(tool.field.deformed.proxies, 30);
+  EXPECT_EQ(tool.field.deformed.neighbours, 6);
+  EXPECT_EQ(tool.field.deformed.seed, std::numeric_limits<std::uint64_t>::max());
   EXPECT_EQ(tool.pointshell.method, PointshellMethod::vertices);
-  EXPECT_EQ(tool.pointshell.schedule.first_level_size, 4);
-  EXPECT_EQ(tool.pointshell.schedule.growth, 3);
-  EXPECT_EQ(tool.pointshell.schedule.max_levels, 2);
-  EXPECT_EQ(tool.pointshell.seed, 3u);
+  EXPECT_EQ(tool.pointshell.nested.schedule.first_level_size, 4);
+  EXPECT_EQ(tool.pointshell.nested.schedule.growth, 3);
+  EXPECT_EQ(tool.pointshell.nested.schedule.max_levels, 2);
+  EXPECT_EQ(tool.pointshell.nested.seed, 3u);
   EXPECT_EQ(s.objects[1].scale, 2.0);
 
   EXPECT_EQ(s.haptic.front().role, contact::HapticObject::distance_field);
@@ -433,21 +435,21 @@ TEST(SceneDescription, DerivedDefaults) {
   // Without derivatives, r defaults to k.
   scene = reduced_scene();
   scene["objects"][0]["model"]["basis"] = {{"k", 7}, {"modal_derivatives", false}};
-  EXPECT_EQ(parse(scene).objects[0].model.basis.basis_size, 7);
+  EXPECT_EQ(parse(scene).objects[0].model.basis.basis_size(), 7);
 
   // "points" picks n₀ = round(3N / (4ᴸ − 1)).
   scene = minimal_scene();
   scene["objects"][0]["pointshell"] = {{"points", 262229}, {"levels", 5}};
-  EXPECT_EQ(parse(scene).objects[0].pointshell.first_level_points, 769);
+  EXPECT_EQ(parse(scene).objects[0].pointshell.repulsion.first_level_points, 769);
   scene["objects"][0]["pointshell"] = {{"points", 1}, {"levels", 3}};
-  EXPECT_EQ(parse(scene).objects[0].pointshell.first_level_points, 1);
+  EXPECT_EQ(parse(scene).objects[0].pointshell.repulsion.first_level_points, 1);
 
   // Integral floats count as integers; the loop rate sets the periods.
   scene = reduced_scene();
   scene["objects"][1]["field"] = {{"cells", 64.0}};
   scene["loop"] = {{"rate_hz", 2000}};
   const SceneDescription s = parse(scene);
-  EXPECT_EQ(s.objects[1].field.cells, 64);
+  EXPECT_EQ(s.objects[1].field.distance.cells, 64);
   EXPECT_EQ(s.coupling.period, 0.0005);
   EXPECT_EQ(s.objects[0].model.integrator.newmark.time_step, 0.0005);
   EXPECT_EQ(s.haptic.front().device.capabilities.nominal_rate, 2000.0);
@@ -462,19 +464,19 @@ TEST(SceneDescription, SketchAndSimulationDataBases) {
   SceneDescription s = parse(scene);
   const BasisDescription& sketch = s.objects[0].model.basis;
   EXPECT_EQ(sketch.method, BasisMethod::sketch);
-  EXPECT_EQ(sketch.basis_size, 2);
+  EXPECT_EQ(sketch.basis_size(), 2);
   EXPECT_EQ(sketch.loads, "loads.csv");
   EXPECT_EQ(sketch.loads_path, (test::test_file("scenes") / "loads.csv").lexically_normal());
-  EXPECT_EQ(sketch.force_separation, 0.5);
-  EXPECT_EQ(sketch.static_solve.load_steps, 4);
-  EXPECT_TRUE(sketch.skip_failed_solves);
+  EXPECT_EQ(sketch.sketch.force_separation, 0.5);
+  EXPECT_EQ(sketch.sketch.static_solve.load_steps, 4);
+  EXPECT_TRUE(sketch.sketch.skip_failed_solves);
 
   model["basis"] = Json::parse(R"({"method": "simulation_data", "r": 3, "loads": "loads.csv",
       "simulation": {"hold_steps": 20, "release_steps": 30, "snapshot_every": 5}})");
   s = parse(scene);
   const BasisDescription& simulation = s.objects[0].model.basis;
   EXPECT_EQ(simulation.method, BasisMethod::simulation_data);
-  EXPECT_EQ(simulation.basis_size, 3);
+  EXPECT_EQ(simulation.basis_size(), 3);
   EXPECT_EQ(simulation.simulation.hold_steps, 20);
   EXPECT_EQ(simulation.simulation.release_steps, 30);
   EXPECT_EQ(simulation.simulation.snapshot_every, 5);

@@ -24,8 +24,10 @@ void describe_model(const scene::ModelDescription& model) {
     return;
   }
   out << "reduced, " << scene::basis_method_name(model.basis.method)
-      << " basis, r = " << model.basis.basis_size;
-  if (model.basis.method == scene::BasisMethod::modes) out << ", k = " << model.basis.num_modes;
+      << " basis, r = " << model.basis.basis_size();
+  if (model.basis.method == scene::BasisMethod::modes) {
+    out << ", k = " << model.basis.modal.modes.num_modes;
+  }
   out << "\n";
 }
 
@@ -33,12 +35,12 @@ void describe_pointshell(const scene::PointshellDescription& pointshell) {
   std::ostream& out = info_line("pointshell", 4)
                       << scene::pointshell_method_name(pointshell.method) << ", ";
   if (pointshell.method == scene::PointshellMethod::repulsion) {
-    out << pointshell.levels << " levels (" << pointshell.first_level_points
+    out << pointshell.repulsion.levels << " levels (" << pointshell.repulsion.first_level_points
         << " points on level 0)\n";
-  } else if (pointshell.schedule.max_levels == 0) {
+  } else if (pointshell.nested.schedule.max_levels == 0) {
     out << "as many levels as the points fill\n";
   } else {
-    out << "at most " << pointshell.schedule.max_levels << " levels\n";
+    out << "at most " << pointshell.nested.schedule.max_levels << " levels\n";
   }
 }
 
@@ -50,7 +52,7 @@ void describe_object(const scene::ObjectDescription& object) {
                         << (object.roles.distance_field ? "distance_field" : "") << "\n";
   describe_model(object.model);
   if (object.uses_field()) {
-    info_line("field", 4) << object.field.cells << " cells per axis\n";
+    info_line("field", 4) << object.field.distance.cells << " cells per axis\n";
   }
   if (object.roles.pointshell) describe_pointshell(object.pointshell);
   std::ostream& out = info_line("products", 4);

@@ -2,10 +2,11 @@
 // How a reduced object's basis U is made: linear modes (with or without modal derivatives), a
 // sketch basis from recorded loads, or mass-PCA of a full simulation.
 
-#include <khz/reduced/basis/mass_pca.hpp>
-#include <khz/reduced/fem/fem_model.hpp>
+#include <khz/reduced/basis/modal_derivative_basis.hpp>
+#include <khz/reduced/basis/simulation_data_basis.hpp>
+#include <khz/reduced/basis/sketch_basis.hpp>
+#include <khz/reduced/solvers/full_newmark.hpp>
 
-#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -24,60 +25,38 @@ enum class BasisMethod {
   simulation_data,
 };
 
-/// The static solves of a sketch basis (JSON basis.static_solve; reduced::StaticSolveOptions).
-struct StaticSolveDescription {
-  int load_steps = 1;       ///< ≥ 1: load increments, each solved to equilibrium.
-  int max_iterations = 50;  ///< ≥ 1: Newton iterations per load step.
-  double tolerance = 1e-8;  ///< > 0: relative residual at which Newton stops.
-  bool line_search = true;  ///< Backtracking line search after each Newton step.
-};
-
 /// The full simulation whose snapshots a simulation-data basis is made of (JSON
 /// basis.simulation). One run of reduced::FullNewmark from rest: every load of the load file in
 /// turn is held for hold_steps steps and then removed for release_steps steps; the displacement
 /// after every snapshot_every-th step is a snapshot.
 struct SimulationRunDescription {
-  int hold_steps = 0;              ///< ≥ 1, required: steps each load is applied.
-  int release_steps = 0;           ///< ≥ 0: force-free steps after each load.
-  int snapshot_every = 1;          ///< ≥ 1: steps between snapshots.
-  double time_step = 1e-3;         ///< Δt (s), > 0 (NewmarkParameters::time_step).
-  int max_newton_iterations = 10;  ///< ≥ 1 (FullNewmarkOptions::max_newton_iterations).
-  double mass_damping = 0.0;       ///< Rayleigh α (1/s), ≥ 0.
-  double stiffness_damping = 0.0;  ///< Rayleigh β (s), ≥ 0.
+  int hold_steps = 0;      ///< "hold_steps", ≥ 1, required: steps each load is applied.
+  int release_steps = 0;   ///< "release_steps", ≥ 0: force-free steps after each load.
+  int snapshot_every = 1;  ///< "snapshot_every", ≥ 1: steps between snapshots.
+  /// The run's integrator, with the library's defaults: JSON "time_step" (Δt, s, > 0),
+  /// "mass_damping" (Rayleigh α, 1/s, ≥ 0) and "stiffness_damping" (Rayleigh β, s, ≥ 0) set
+  /// its NewmarkParameters, "max_newton_iterations" (≥ 1) its own; beta, gamma, mass and
+  /// tolerance are not keys.
+  reduced::FullNewmarkOptions integrator;
 };
 
-/// A reduced object's basis recipe (JSON model.basis). Members list their JSON key and the
-/// library option they map to; settings of another method than `method` keep their defaults
-/// (the reader refuses them in the file).
+/// A reduced object's basis recipe (JSON model.basis): the options of the library's generator
+/// for `method`, with the library's defaults. The JSON keys are the library's names unless
+/// said otherwise; the other methods' options keep their defaults (the reader refuses their
+/// keys in the file).
 struct BasisDescription {
   BasisMethod method = BasisMethod::modes;  ///< "method": "modes" | "sketch" | "simulation_data".
 
-  /// "r": basis vectors (≥ 1). modes with derivatives: ModalDerivativeBasisOptions::basis_size,
-  /// default 30, at most k + k(k+1)/2 with anchors and k + k² without; modes without
-  /// derivatives: default k, at most k; sketch (SketchBasisOptions::basis_size) and
-  /// simulation_data (simulation_data_basis's basis_size): required.
-  int basis_size = 30;
-
   // --- modes ---
-  /// "k": deformation modes (≥ 1); LinearModesOptions::num_modes.
-  int num_modes = 20;
   /// "modal_derivatives": add the modal derivatives and reduce by mass-PCA
   /// (modal_derivative_basis) rather than keep the first r modes.
   bool modal_derivatives = true;
-  /// "mass": "consistent" | "lumped"; LinearModesOptions::mass.
-  reduced::MassLumping mass = reduced::MassLumping::consistent;
-  /// "tolerance": ARPACK's relative residual, ≥ 0, 0 for machine precision;
-  /// LinearModesOptions::tolerance.
-  double tolerance = 0.0;
-  /// "max_restarts": ≥ 1; LinearModesOptions::max_restarts.
-  int max_restarts = 300;
-
-  // --- every mass-PCA (modes with derivatives, sketch, simulation_data) ---
-  /// "metric": "mass" | "lumped_mass" | "euclidean"; ModalDerivativeBasisOptions::metric,
-  /// SketchBasisOptions::metric, SimulationDataBasisOptions::metric.
-  reduced::PcaMetric metric = reduced::PcaMetric::mass;
-  /// "rank_tolerance": in [0, 1) (sketch, simulation_data); the options' rank_tolerance.
-  double rank_tolerance = 1e-10;
+  /// "k" → modes.num_modes (≥ 1), "mass", "tolerance" (≥ 0, 0 for machine precision) and
+  /// "max_restarts" (≥ 1) → modes (LinearModesOptions); with modal derivatives also "metric"
+  /// and "r" → basis_size (default 30, at most k + k(k+1)/2 with anchors and k + k² without).
+  /// Without them only `modes` is used, and "r" → basis_size is the number of modes kept
+  /// (default k, at most k). derivatives and progress are not keys.
+  reduced::ModalDerivativeBasisOptions modal;
 
   // --- sketch and simulation_data ---
   /// "loads": the recorded force loads (CSV, reduced::parse_force_loads(); vertex indices of the
@@ -86,18 +65,32 @@ struct BasisDescription {
   /// `loads` resolved against the scene file's directory (absolute).
   std::filesystem::path loads_path;
 
-  // --- sketch (SketchBasisOptions, same names) ---
-  double force_separation = 0.0;          ///< "force_separation": δ_f (N), ≥ 0.
-  double force_kernel_width = 0.0;        ///< "force_kernel_width": h_f (N), ≥ 0.
-  double deformation_separation = 0.0;    ///< "deformation_separation": δ_u (m·√kg), ≥ 0.
-  double deformation_kernel_width = 0.0;  ///< "deformation_kernel_width": h_u (m·√kg), ≥ 0.
-  StaticSolveDescription static_solve;    ///< "static_solve".
-  bool skip_failed_solves = false;        ///< "skip_failed_solves".
+  // --- sketch ---
+  /// "r" → basis_size (≥ 1, required), "metric", "rank_tolerance" (in [0, 1)),
+  /// "force_separation", "force_kernel_width", "deformation_separation",
+  /// "deformation_kernel_width" (each ≥ 0), "static_solve" {load_steps, max_iterations,
+  /// tolerance, line_search} and "skip_failed_solves". progress is not a key.
+  reduced::SketchBasisOptions sketch;
 
   // --- simulation_data ---
+  /// "r" (≥ 1, required): simulation_data_basis()'s basis_size.
+  int simulation_data_basis_size = 0;
+  /// "metric", "rank_tolerance" (in [0, 1)) and "fixed_tolerance" (≥ 0). progress is not a key.
+  reduced::SimulationDataBasisOptions simulation_data;
   SimulationRunDescription simulation;  ///< "simulation" (required for this method).
-  /// "fixed_tolerance": ≥ 0; SimulationDataBasisOptions::fixed_tolerance.
-  double fixed_tolerance = 1e-12;
+
+  /// "r": the basis size of `method`.
+  int basis_size() const noexcept {
+    switch (method) {
+      case BasisMethod::modes:
+        return modal.basis_size;
+      case BasisMethod::sketch:
+        return sketch.basis_size;
+      case BasisMethod::simulation_data:
+        break;
+    }
+    return simulation_data_basis_size;
+  }
 };
 
 }  // namespace khz::scene

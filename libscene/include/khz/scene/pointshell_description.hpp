@@ -2,10 +2,9 @@
 // How an object's multi-resolution pointshell is made.
 
 #include <khz/contact/pointshell/nested_levels.hpp>
+#include <khz/contact/pointshell/repulsion_pointshell.hpp>
 
 #include <Eigen/Core>
-
-#include <cstdint>
 
 namespace khz::scene {
 
@@ -25,32 +24,27 @@ enum class PointshellMethod {
 };
 
 /// JSON object.pointshell. Which keys apply depends on the method; the reader refuses the
-/// others.
+/// others. The settings of the library's structs keep the library's defaults and names.
 struct PointshellDescription {
   PointshellMethod method = PointshellMethod::repulsion;  ///< "method".
 
-  // --- repulsion (contact::RepulsionOptions, same names) ---
-  /// "first_level_points": n₀ ≥ 1. Alternatively "points", the total N wanted in all levels:
-  /// n₀ = max(1, round(3N / (4ᴸ − 1))). At most 2³¹ − 1 points in all.
-  Eigen::Index first_level_points = 64;
-  int levels = 4;              ///< "levels": L ≥ 1.
-  int max_iterations = 1000;   ///< "max_iterations": ≥ 1 per level.
-  double tolerance = 1e-3;     ///< "tolerance": in (0, 1).
-  double radius_factor = 1.5;  ///< "radius_factor": κ in [1, 4].
+  /// repulsion: "first_level_points" (n₀ ≥ 1), "levels" (L ≥ 1), "seed", "max_iterations"
+  /// (≥ 1 per level), "tolerance" (in (0, 1)), "radius_factor" (κ in [1, 4]). Instead of
+  /// first_level_points the file may give "points", the total N wanted in all levels:
+  /// n₀ = max(1, round(3N / (4ᴸ − 1))). At most 2³¹ − 1 points in all. projection_tolerance
+  /// and progress are not keys.
+  contact::RepulsionOptions repulsion;
 
-  /// "seed": repulsion's starting positions (RepulsionOptions::seed); for the other methods the
-  /// farthest-point order (NestedLevelOptions::seed) and, for random, the samples.
-  std::uint64_t seed = 0;
-
-  // --- vertices, random, voxels ---
-  /// "points": random only, required: the samples drawn (random_pointshell's count), ≥ 1.
+  /// vertices, random, voxels: the farthest-point order nested_pointshell() cuts into levels:
+  /// "seed", and the schedule (contact::LevelSchedule) as "first_level_points" →
+  /// first_level_size (≥ 1), "growth" (≥ 2), "levels" → max_levels (≥ 0; 0: as many as the
+  /// points fill). For random the seed also draws the samples. progress is not a key.
+  contact::NestedLevelOptions nested;
+  /// "points": random only, required: the samples drawn (random_pointshell's count), in
+  /// [1, 2³¹ − 1].
   Eigen::Index count = 0;
   /// "cell_size": voxels only, required: the voxels' side (m), > 0.
   double cell_size = 0.0;
-  /// Level sizes of the farthest-point order (contact::LevelSchedule, nested_pointshell()):
-  /// JSON "first_level_points" → first_level_size (default 8), "growth" (default 8, ≥ 2),
-  /// "levels" → max_levels (default 0: as many as the points fill).
-  contact::LevelSchedule schedule;
 };
 
 }  // namespace khz::scene
