@@ -1,11 +1,15 @@
 // Scene preparation: each object gets exactly the products its roles and model need, through the
 // product cache, so a second preparation computes nothing and reads the same bits, and a changed
 // setting recomputes only the products whose keys it enters.
+#include "scene_fixtures.hpp"
+
 #include <khz/contact/field/deformed_distance_field.hpp>
 #include <khz/contact/query/contact_query.hpp>
 #include <khz/contact/query/contact_workspace.hpp>
 #include <khz/scene/body_mesh.hpp>
 #include <khz/scene/cache_directory.hpp>
+#include "scene_fixtures.hpp"
+
 #include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/read_scene.hpp>
 #include <khz/test/fixtures.hpp>
@@ -53,37 +57,11 @@ Json rigid_scene() {
   })");
 }
 
-/// A reduced 8 cm cube with a repulsion pointshell (16 + 64 points on its 16-cell field; 4³
-/// voxels, bottom layer anchored, r = 4 from k = 3 modes and their derivatives) held against a
-/// reduced 10 cm cube used as a deformed distance field (4³ voxels, r = 3 linear modes, 12
-/// proxies).
+/// test_scenes::reduced_pair_scene(), its tool's integrator damped (α = 2/s).
 Json reduced_scene() {
-  return Json::parse(R"({
-    "objects": [
-      {"name": "tool", "mesh": "cube.off", "size": 0.08, "centre": true, "roles": ["pointshell"],
-       "model": {
-         "type": "reduced",
-         "meshing": {"method": "voxels", "resolution": 4, "fill_interior": true},
-         "material": {"young_modulus": 1e5, "poisson_ratio": 0.4, "density": 1000},
-         "anchors": [{"type": "box", "min": [-1, -1, -1], "max": [1, 1, -0.035]}],
-         "basis": {"method": "modes", "k": 3, "r": 4},
-         "integrator": {"mass_damping": 2.0}
-       },
-       "field": {"cells": 16},
-       "pointshell": {"method": "repulsion", "first_level_points": 16, "levels": 2}},
-      {"name": "wall", "mesh": "cube.off", "size": 0.1, "centre": true,
-       "roles": ["distance_field"],
-       "model": {
-         "type": "reduced",
-         "meshing": {"method": "voxels", "resolution": 4, "fill_interior": true},
-         "material": {"young_modulus": 1e5, "poisson_ratio": 0.4, "density": 1000},
-         "anchors": [{"type": "half_space", "point": [0, 0, -0.04], "normal": [0, 0, -1]}],
-         "basis": {"method": "modes", "k": 3, "modal_derivatives": false}
-       },
-       "field": {"cells": 16, "proxies": 12, "neighbours": 4}}
-    ],
-    "haptic": {"object": "tool"}
-  })");
+  Json scene = test_scenes::reduced_pair_scene();
+  scene["objects"][0]["model"]["integrator"] = {{"mass_damping", 2.0}};
+  return scene;
 }
 
 std::filesystem::path fresh_cache() { return test::scratch_directory("cache"); }

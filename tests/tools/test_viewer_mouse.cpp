@@ -178,16 +178,7 @@ TEST(MousePlacement, DevicePositionInvertsTheMapping) {
 // A 4 cm cube "tool" 1 cm above a 10 cm cube "wall" (top face at y = 0.05), moved by a
 // MouseDevice into the wall: the coupling pulls it into contact and the wall pushes back.
 TEST(MouseDevice, DrivesASceneRuntimeIntoContact) {
-  nlohmann::json json = scene::test_scenes::minimal_scene();
-  nlohmann::json& tool = json["objects"][0];
-  tool["size"] = 0.04;
-  tool["centre"] = true;
-  tool["pose"] = {{"position", {0.0, 0.08, 0.0}}};
-  tool["pointshell"] = {{"method", "random"}, {"points", 500}};
-  nlohmann::json& wall = json["objects"][1];
-  wall["size"] = 0.1;
-  wall["centre"] = true;
-  wall["field"] = {{"cells", 16}};
+  const nlohmann::json json = scene::test_scenes::cube_above_wall_scene();
   const scene::SceneDescription description =
       scene::parse_scene(json.dump(), "mouse scene", scene::test_scenes::read_options());
   scene::ProductCache cache(test::scratch_file("cache.probe").parent_path() / "cache");

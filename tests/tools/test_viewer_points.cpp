@@ -78,16 +78,7 @@ std::int64_t in_contact(const std::vector<run::PointPicture>& pictures) {
 
 // A rigid 4 cm cube (500 random points) pressed 3 mm into a rigid 10 cm cube, then lifted off.
 TEST(SnapshotPoints, RigidObjectsAsTheFramePictures) {
-  nlohmann::json json = scene::test_scenes::minimal_scene();
-  nlohmann::json& tool = json["objects"][0];
-  tool["size"] = 0.04;
-  tool["centre"] = true;
-  tool["pose"] = {{"position", {0.0, 0.08, 0.0}}};
-  tool["pointshell"] = {{"method", "random"}, {"points", 500}};
-  nlohmann::json& wall = json["objects"][1];
-  wall["size"] = 0.1;
-  wall["centre"] = true;
-  wall["field"] = {{"cells", 16}};
+  const nlohmann::json json = scene::test_scenes::cube_above_wall_scene();
   MouseScene scene(json, "viewer-points-rigid");
   const SnapshotLayout layout(scene.runtime());
   SnapshotPoints points(scene.runtime(), layout);
@@ -113,40 +104,10 @@ TEST(SnapshotPoints, RigidObjectsAsTheFramePictures) {
   expect_same(points.classify(*pressed), touching);
 }
 
-/// The reduced test scene of test_scene_prepare (a reduced 8 cm cube with a repulsion pointshell
-/// above a reduced 10 cm cube used as a deformed field, r = 4 and 3), the tool 1 cm above the
-/// wall. Soft (E = 100 kPa), so pressing deforms both.
-nlohmann::json reduced_scene() {
-  return nlohmann::json::parse(R"({
-    "objects": [
-      {"name": "tool", "mesh": "cube.off", "size": 0.08, "centre": true, "roles": ["pointshell"],
-       "pose": {"position": [0, 0.1, 0]},
-       "model": {
-         "type": "reduced",
-         "meshing": {"method": "voxels", "resolution": 4, "fill_interior": true},
-         "material": {"young_modulus": 1e5, "poisson_ratio": 0.4, "density": 1000},
-         "anchors": [{"type": "box", "min": [-1, -1, -1], "max": [1, 1, -0.035]}],
-         "basis": {"method": "modes", "k": 3, "r": 4}
-       },
-       "field": {"cells": 16},
-       "pointshell": {"method": "repulsion", "first_level_points": 16, "levels": 2}},
-      {"name": "wall", "mesh": "cube.off", "size": 0.1, "centre": true,
-       "roles": ["distance_field"],
-       "model": {
-         "type": "reduced",
-         "meshing": {"method": "voxels", "resolution": 4, "fill_interior": true},
-         "material": {"young_modulus": 1e5, "poisson_ratio": 0.4, "density": 1000},
-         "anchors": [{"type": "half_space", "point": [0, 0, -0.04], "normal": [0, 0, -1]}],
-         "basis": {"method": "modes", "k": 3, "modal_derivatives": false}
-       },
-       "field": {"cells": 16, "proxies": 12, "neighbours": 4}}
-    ],
-    "haptic": {"object": "tool"}
-  })");
-}
-
 TEST(SnapshotPoints, ReducedObjectsUseTheSnapshotsCoordinatesAndTheirOwnDeformedField) {
-  MouseScene scene(reduced_scene(), "viewer-points-reduced");
+  nlohmann::json json = scene::test_scenes::reduced_pair_scene();
+  json["objects"][0]["pose"] = {{"position", {0.0, 0.1, 0.0}}};
+  MouseScene scene(json, "viewer-points-reduced");
   const SnapshotLayout layout(scene.runtime());
   SnapshotPoints points(scene.runtime(), layout);
   ASSERT_EQ(points.picture_count(), 1);

@@ -41,38 +41,6 @@ TEST(PreparationMessages, OneLinePerProductFromItsFirstReport) {
             "peg2 point_tree: cached");
 }
 
-/// The reduced test scene of test_scene_prepare, small enough to compute in a moment: a reduced
-/// tool with a repulsion pointshell (its reduced model, volume mesh, field, pointshell and
-/// deformable tree are cached products) against a reduced wall (its deformed field is built at
-/// every preparation).
-nlohmann::json reduced_scene() {
-  return nlohmann::json::parse(R"({
-    "objects": [
-      {"name": "tool", "mesh": "cube.off", "size": 0.08, "centre": true, "roles": ["pointshell"],
-       "model": {
-         "type": "reduced",
-         "meshing": {"method": "voxels", "resolution": 4, "fill_interior": true},
-         "material": {"young_modulus": 1e5, "poisson_ratio": 0.4, "density": 1000},
-         "anchors": [{"type": "box", "min": [-1, -1, -1], "max": [1, 1, -0.035]}],
-         "basis": {"method": "modes", "k": 3, "r": 4}
-       },
-       "field": {"cells": 16},
-       "pointshell": {"method": "repulsion", "first_level_points": 16, "levels": 2}},
-      {"name": "wall", "mesh": "cube.off", "size": 0.1, "centre": true,
-       "roles": ["distance_field"],
-       "model": {
-         "type": "reduced",
-         "meshing": {"method": "voxels", "resolution": 4, "fill_interior": true},
-         "material": {"young_modulus": 1e5, "poisson_ratio": 0.4, "density": 1000},
-         "anchors": [{"type": "half_space", "point": [0, 0, -0.04], "normal": [0, 0, -1]}],
-         "basis": {"method": "modes", "k": 3, "modal_derivatives": false}
-       },
-       "field": {"cells": 16, "proxies": 12, "neighbours": 4}}
-    ],
-    "haptic": {"object": "tool"}
-  })");
-}
-
 /// Prepares `description` through the cache in `directory`, keeping the lines the viewer would
 /// print.
 scene::PreparedScene prepare(const scene::SceneDescription& description,
@@ -102,8 +70,9 @@ std::vector<std::string> expected_lines(const scene::PreparedScene& prepared) {
 }
 
 TEST(PreparationMessages, CachedExactlyForTheProductsReadFromTheCache) {
-  const scene::SceneDescription description = scene::parse_scene(
-      reduced_scene().dump(), "reduced scene", scene::test_scenes::read_options());
+  const scene::SceneDescription description =
+      scene::parse_scene(scene::test_scenes::reduced_pair_scene().dump(), "reduced scene",
+                         scene::test_scenes::read_options());
   const std::filesystem::path directory = test::scratch_directory("viewer-cache");
 
   std::vector<std::string> first;
