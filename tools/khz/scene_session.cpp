@@ -9,6 +9,7 @@
 #include <khz/run/run_realtime.hpp>
 #include <khz/run/run_scene.hpp>
 #include <khz/run/run_summary.hpp>
+#include <khz/scene/make_device.hpp>
 #include <khz/scene/read_scene.hpp>
 
 #include <chrono>
@@ -26,9 +27,24 @@ std::filesystem::path frame_file(const std::filesystem::path& directory, int fra
   return directory / name;
 }
 
+run::DeviceChoice device_choice(const RunRequest& request) {
+  run::DeviceChoice choice;
+  choice.trajectory = request.trajectory;
+  choice.operator_script = request.operator_script;
+  choice.hardware = request.device;
+  return choice;
+}
+
+/// The scene prepared, once its devices are known to be ones khz can make: a device that cannot
+/// run (a hardware backend, none being built in) is refused before a possibly long preparation.
 scene::PreparedScene prepare(const RunRequest& request) {
-  return prepare_with_progress(scene::read_scene(request.scene),
-                               cache_directory(request.cache, request.scene), std::cout);
+  scene::SceneDescription description = scene::read_scene(request.scene);
+  for (const scene::DeviceDescription& device :
+       run::choose_devices(description, device_choice(request))) {
+    if (device.type == scene::DeviceType::hardware) scene::make_device(device);  // throws
+  }
+  return prepare_with_progress(description, cache_directory(request.cache, request.scene),
+                               std::cout);
 }
 
 /// A run that produced non-finite values fails the command (after its logs are written).
@@ -100,12 +116,8 @@ SceneSession::SceneSession(const RunRequest& request)
                 ? std::filesystem::path("khz-run") / std::filesystem::path(request.scene).stem()
                 : std::filesystem::path(request.out)),
       m_prepared(prepare(request)) {
-  run::DeviceChoice choice;
-  choice.trajectory = request.trajectory;
-  choice.operator_script = request.operator_script;
-  choice.hardware = request.device;
   m_runtime = std::make_unique<scene::SceneRuntime>(
-      m_prepared, run::choose_devices(m_prepared.description, choice));
+      m_prepared, run::choose_devices(m_prepared.description, device_choice(request)));
 }
 
 SceneSession::~SceneSession() = default;
