@@ -191,14 +191,6 @@ Placement touching_dino(const kc::PointTree& tree, double height) {
   return placement;
 }
 
-/// The held dino's body pose (world ← body) for its grasp frame.
-Eigen::Isometry3d held_pose(const kh::Pose& grasp, const Eigen::Vector3d& grasp_in_body) {
-  Eigen::Isometry3d held = Eigen::Isometry3d::Identity();
-  held.linear() = grasp.orientation.normalized().toRotationMatrix();
-  held.translation() = grasp.position - held.linear() * grasp_in_body;
-  return held;
-}
-
 /// A scene ready to run: what HapticCycle queries, and a deformable pointshell's dynamics.
 struct SceneInstance {
   std::unique_ptr<kr::PolynomialForces> forces;
@@ -229,9 +221,10 @@ SceneSpec bunny_scene(const std::string& name, const kc::ContactOptions& contact
     s.scene = std::make_unique<kh::PointshellFieldScene<kc::PointTree, kc::DistanceGrid>>(
         tree, dino_field(), options, placement.grasp, placement.pointshell);
     s.depth = [](const kh::Pose& grasp) {
-      return std::max(0.0, -khz::bench::min_distance(
-                               khz::bench::RigidShape(tree), dino_field(),
-                               held_pose(grasp, placement.grasp).inverse() * placement.pointshell));
+      return std::max(
+          0.0, -khz::bench::min_distance(
+                   khz::bench::RigidShape(tree), dino_field(),
+                   kh::held_body_pose(grasp, placement.grasp).inverse() * placement.pointshell));
     };
     return s;
   };
@@ -284,10 +277,10 @@ SceneSpec dragon_scene(const kc::ContactOptions& contact) {
           .maxCoeff();
     };
     s.depth = [integrator = s.integrator.get()](const kh::Pose& grasp) {
-      return std::max(0.0,
-                      -khz::bench::min_distance(
-                          khz::bench::DeformedShape(tree, integrator->coordinates()), dino_field(),
-                          held_pose(grasp, placement.grasp).inverse() * placement.pointshell));
+      return std::max(
+          0.0, -khz::bench::min_distance(
+                   khz::bench::DeformedShape(tree, integrator->coordinates()), dino_field(),
+                   kh::held_body_pose(grasp, placement.grasp).inverse() * placement.pointshell));
     };
     return s;
   };

@@ -24,20 +24,13 @@ struct Object {
   std::unique_ptr<reduced::EmbeddedSurface> embedded_surface;  // on first deformed_vertices()
 };
 
-Eigen::Isometry3d to_isometry(const haptic::Pose& pose) {
-  Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
-  result.linear() = pose.orientation.normalized().toRotationMatrix();
-  result.translation() = pose.position;
-  return result;
-}
-
 /// The object's runtime state and its World body.
 haptic::Body make_body(const ObjectDescription& description, const PreparedObject& products,
                        Object& object) {
   object.surface = read_body_mesh(description);
   haptic::Body body;
   body.name = description.name;
-  body.pose = to_isometry(description.pose);
+  body.pose = haptic::held_body_pose(description.pose, Eigen::Vector3d::Zero());
   if (products.model != nullptr) {
     const reduced::ReducedModel& model = *products.model;
     object.forces = std::make_unique<reduced::PolynomialForces>(model.energy_polynomial());

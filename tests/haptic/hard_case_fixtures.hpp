@@ -77,14 +77,6 @@ inline Eigen::Quaterniond turned(double angle, const Eigen::Vector3d& axis) {
   return Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
 }
 
-/// The held body's pose for a grasp frame (as PointshellFieldScene places it).
-inline Eigen::Isometry3d held_body(const Pose& grasp, const Eigen::Vector3d& grasp_in_body) {
-  Eigen::Isometry3d body = Eigen::Isometry3d::Identity();
-  body.linear() = grasp.orientation.normalized().toRotationMatrix();
-  body.translation() = grasp.position - body.linear() * grasp_in_body;
-  return body;
-}
-
 /// A flat pointshell cut into nested levels of 4× growth from `first_level` points (§3.9.1).
 inline contact::PointTree nested_tree(const contact::Pointshell& flat, Eigen::Index first_level) {
   contact::NestedLevelOptions options;

@@ -167,7 +167,7 @@ TEST(HardCases, DeformableToolAgainstDeformableBeam) {
                        {0.62, at(above + Eigen::Vector3d(0, 0, 0.1), down)}});
   const auto penetration = [&](const Pose& grasp) {
     const Eigen::Isometry3d body =
-        held_body(grasp, Eigen::Vector3d(0.0, beam_side / 2, beam_side / 2));
+        held_body_pose(grasp, Eigen::Vector3d(0.0, beam_side / 2, beam_side / 2));
     double deepest = 0.0;
     for (Eigen::Index s = 0; s < beam.tree.tree().num_points(); ++s) {
       const Eigen::Vector3d p = beam.tree.position(s, beam.integrator.coordinates());

@@ -177,7 +177,7 @@ TEST(HapticHardCases, APegMovedFastAlongItsShaftSlidesWithItAndCannotLeaveSidewa
                                {1.7, at({0.03, 0.0, 0.0})}}),
               scene, options, [&](const Pose& grasp) {
                 return deepest_penetration(peg.pointshell().points, shaft,
-                                           held_body(grasp, Eigen::Vector3d::Zero()));
+                                           held_body_pose(grasp, Eigen::Vector3d::Zero()));
               });
   run.run(1600);
   // Along the shaft nothing resists: the quasi-static rendered stiffness along z is zero.
@@ -256,7 +256,7 @@ TEST(HapticHardCases, ABoxSqueezedBetweenTwoPlanesFollowsFastInPlaneMotion) {
                                {0.73, at(Eigen::Vector3d::Zero())}}),
               scene, options, [&](const Pose& grasp) {
                 return deepest_penetration(box.pointshell().points, planes,
-                                           held_body(grasp, Eigen::Vector3d::Zero()));
+                                           held_body_pose(grasp, Eigen::Vector3d::Zero()));
               });
   run.run(2000);
   const std::vector<Sample>& trace = run.trace();
@@ -313,7 +313,7 @@ TEST(HapticHardCases, ABallTurnedFastInItsSocketFollowsTheHandAndStaysSeated) {
                                {1.05, at(pressed)}}),
               scene, options, [&](const Pose& grasp) {
                 return deepest_penetration(ball.pointshell().points, socket,
-                                           held_body(grasp, Eigen::Vector3d::Zero()));
+                                           held_body_pose(grasp, Eigen::Vector3d::Zero()));
               });
   double torque_gradient = 0.0;
   for (int i = 0; i < 2000; ++i) {
@@ -376,7 +376,7 @@ TEST(HapticHardCases, TurningPastAHalfTurnTurnsTheObjectTheShortWayWithoutATorqu
   }
   Harness run(keyframe_target(keys), scene, options, [&](const Pose& grasp) {
     return deepest_penetration(box.pointshell().points, floor,
-                               held_body(grasp, Eigen::Vector3d::Zero()));
+                               held_body_pose(grasp, Eigen::Vector3d::Zero()));
   });
   run.run(2600);
   const std::vector<Sample>& trace = run.trace();
@@ -436,7 +436,7 @@ TEST(HapticHardCases, ARodLeveredAgainstAPillarIsHeldByTheSizeAwareTorqueSaturat
                                                                 Eigen::Vector3d::UnitZ()))}}),
       scene, options, [&](const Pose& grasp) {
         return deepest_penetration(rod.pointshell().points, pillar,
-                                   held_body(grasp, Eigen::Vector3d::Zero()));
+                                   held_body_pose(grasp, Eigen::Vector3d::Zero()));
       });
   run.run(2000);
   const std::vector<Sample>& trace = run.trace();
@@ -447,8 +447,9 @@ TEST(HapticHardCases, ARodLeveredAgainstAPillarIsHeldByTheSizeAwareTorqueSaturat
   const CycleRecord& last = trace.back().record;
   // Never through: in the rod's frame the pillar's axis stays beyond the rod's +y side.
   for (const Sample& s : trace) {
-    const Eigen::Vector3d axis = held_body(s.record.simulation, Eigen::Vector3d::Zero()).inverse() *
-                                 Eigen::Vector3d(0.09, 0.013, 0.0);
+    const Eigen::Vector3d axis =
+        held_body_pose(s.record.simulation, Eigen::Vector3d::Zero()).inverse() *
+        Eigen::Vector3d(0.09, 0.013, 0.0);
     ASSERT_GT(axis.y(), half.y());
   }
   EXPECT_GT(std::abs(last.contact.torque.z()), 0.5 * plateau) << "levered against the pillar";
@@ -491,7 +492,7 @@ TEST(HapticHardCases, HundredsOfContactsKeepTheRenderedStiffnessBelowTheCoupling
                                {1.6, at({0.0, 0.0, light - 0.03})}}),
               scene, options, [&](const Pose& grasp) {
                 return deepest_penetration(box.pointshell().points, floor,
-                                           held_body(grasp, Eigen::Vector3d::Zero()));
+                                           held_body_pose(grasp, Eigen::Vector3d::Zero()));
               });
   // ‖∂F/∂x‖₂ of every cycle's query (the scene keeps the last one).
   double stiffest = 0.0;
@@ -561,7 +562,7 @@ TEST(HapticHardCases, ANaNPoseOrADisconnectMidContactRendersZeroAtOnceAndRecover
       scene, coupling_options(radius),
       [&](const Pose& grasp) {
         return deepest_penetration(ball.pointshell().points, floor,
-                                   held_body(grasp, Eigen::Vector3d::Zero()));
+                                   held_body_pose(grasp, Eigen::Vector3d::Zero()));
       },
       safety);
   constexpr int faulty = 5;

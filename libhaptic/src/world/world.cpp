@@ -29,14 +29,6 @@ Eigen::Index field_dimension(const Body& body) noexcept {
   return state != nullptr ? (*state)->dimension() : 0;
 }
 
-/// World ← body of a held body whose grasp frame is at `grasp` (orientations coincide).
-Eigen::Isometry3d held_pose(const Pose& grasp, const Eigen::Vector3d& grasp_in_body) noexcept {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = grasp.orientation.normalized().toRotationMatrix();
-  pose.translation() = grasp.position - pose.linear() * grasp_in_body;
-  return pose;
-}
-
 }  // namespace
 
 struct World::Data {
@@ -297,7 +289,7 @@ void World::place_held_body(std::size_t hand, const Pose& grasp) noexcept {
   Data::HandState& held = m_data->hands[hand];
   held.grasp_point = grasp.position;
   m_data->bodies[static_cast<std::size_t>(held.hand.body)].pose =
-      held_pose(grasp, held.hand.grasp_in_body);
+      held_body_pose(grasp, held.hand.grasp_in_body);
 }
 
 bool World::query_pairs() noexcept {

@@ -77,9 +77,7 @@ class PointshellFieldScene final : public ContactScene {
   }
 
   const contact::ContactResult* query(const Pose& grasp) noexcept override {
-    Eigen::Isometry3d held = Eigen::Isometry3d::Identity();
-    held.linear() = grasp.orientation.normalized().toRotationMatrix();
-    held.translation() = grasp.position - held.linear() * m_grasp_in_body;
+    const Eigen::Isometry3d held = held_body_pose(grasp, m_grasp_in_body);
     contact::ContactFrames frames;
     frames.grasp_point = grasp.position;
     const bool pointshell_held =
