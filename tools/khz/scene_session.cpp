@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <iostream>
 #include <optional>
+#include <utility>
 
 namespace khz::tool {
 namespace {
@@ -33,18 +34,6 @@ run::DeviceChoice device_choice(const RunRequest& request) {
   choice.operator_script = request.operator_script;
   choice.hardware = request.device;
   return choice;
-}
-
-/// The scene prepared, once its devices are known to be ones khz can make: a device that cannot
-/// run (a hardware backend, none being built in) is refused before a possibly long preparation.
-scene::PreparedScene prepare(const RunRequest& request) {
-  scene::SceneDescription description = scene::read_scene(request.scene);
-  for (const scene::DeviceDescription& device :
-       run::choose_devices(description, device_choice(request))) {
-    if (device.type == scene::DeviceType::hardware) scene::make_device(device);  // throws
-  }
-  return prepare_with_progress(description, cache_directory(request.cache, request.scene),
-                               std::cout);
 }
 
 /// A run that produced non-finite values fails the command (after its logs are written).
@@ -114,10 +103,18 @@ SceneSession::SceneSession(const RunRequest& request)
     : m_request(request),
       m_out(request.out.empty()
                 ? std::filesystem::path("khz-run") / std::filesystem::path(request.scene).stem()
-                : std::filesystem::path(request.out)),
-      m_prepared(prepare(request)) {
-  m_runtime = std::make_unique<scene::SceneRuntime>(
-      m_prepared, run::choose_devices(m_prepared.description, device_choice(request)));
+                : std::filesystem::path(request.out)) {
+  const scene::SceneDescription description = scene::read_scene(request.scene);
+  std::vector<scene::DeviceDescription> devices =
+      run::choose_devices(description, device_choice(request));
+  // A device khz cannot make (a hardware backend: none is built in) is refused before a
+  // possibly long preparation.
+  for (const scene::DeviceDescription& device : devices) {
+    if (device.type == scene::DeviceType::hardware) scene::make_device(device);  // throws
+  }
+  m_prepared =
+      prepare_with_progress(description, cache_directory(request.cache, request.scene), std::cout);
+  m_runtime = std::make_unique<scene::SceneRuntime>(m_prepared, std::move(devices));
 }
 
 SceneSession::~SceneSession() = default;
