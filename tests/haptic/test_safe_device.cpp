@@ -67,6 +67,35 @@ TEST(SafeDevice, ClampingKeepsTheDirection) {
   EXPECT_LT((tight.torque - Eigen::Vector3d(0, 0.6, 0.8)).norm(), 1e-12);  // device's 1 N·m
 }
 
+/// One cycle of the rig from a stack frame `Padding` bytes deeper than the caller's, so the
+/// safety layer's locals sit at another address.
+template <int Padding>
+[[gnu::noinline]] Wrench cycle_deeper(Rig& rig, const Wrench& w) {
+  char padding[Padding];
+  asm volatile("" : : "r"(padding) : "memory");  // keeps the array, and so the deeper frame
+  return rig.cycle(w);
+}
+
+TEST(SafeDevice, WhetherToClampDependsOnTheWrenchNotOnItsAddress) {
+  // A force within an ulp of the 10 N limit, met in a bundled scene after the coupling had
+  // clamped it to 10 N by its own norm. Its magnitude rounds to 10 N, so it passes unchanged,
+  // from any stack depth. Eigen's stableNorm() sums a Vector3d in an order set by its address
+  // (it splits at the first SIMD-aligned coefficient): built with -ffp-contract=off on an
+  // AVX-512 machine, it called this force 10 N from one caller's frame and 10.000000000000002 N
+  // from another's, so the same scene clamped in one build and not in the other.
+  const Wrench w = wrench({0x1.a6afe861c025p+0, -0x1.e8be73e00cc24p+0, 0x1.35a37632b2f99p+3});
+  Rig rig;
+  const auto passes_unchanged = [&](const Wrench& out) {
+    return out.force == w.force && rig.safe.last_write_events() == 0u;
+  };
+  EXPECT_TRUE(passes_unchanged(cycle_deeper<1>(rig, w)));
+  EXPECT_TRUE(passes_unchanged(cycle_deeper<17>(rig, w)));
+  EXPECT_TRUE(passes_unchanged(cycle_deeper<33>(rig, w)));
+  EXPECT_TRUE(passes_unchanged(cycle_deeper<49>(rig, w)));
+  EXPECT_TRUE(passes_unchanged(cycle_deeper<65>(rig, w)));
+  EXPECT_TRUE(passes_unchanged(cycle_deeper<81>(rig, w)));
+}
+
 TEST(SafeDevice, ForceOnlyDevicesGetNoTorque) {
   DeviceCapabilities capabilities = NullDevice::default_capabilities();
   capabilities.output_dof = 3;

@@ -11,14 +11,6 @@ namespace {
 
 bool positive_finite(double value) noexcept { return std::isfinite(value) && value > 0.0; }
 
-/// Scales `v` down to magnitude `limit` if it is longer, keeping its direction.
-bool clamp_magnitude(Eigen::Vector3d& v, double limit) noexcept {
-  const double norm = v.stableNorm();
-  if (norm <= limit) return false;
-  v *= limit / norm;
-  return true;
-}
-
 bool valid_reading(const DeviceState& state) noexcept {
   return detail::is_valid_pose(state.pose) && std::isfinite(state.time) &&
          (!state.has_linear_velocity || state.linear_velocity.allFinite()) &&
@@ -188,8 +180,8 @@ bool SafeDevice::write(const Wrench& wrench) noexcept {
   const int output_dof = m_device.capabilities().output_dof;
   if (output_dof == 0) output.force.setZero();
   if (output_dof < 6) output.torque.setZero();
-  if (clamp_magnitude(output.force, m_force_limit)) events |= safety_clamped_force;
-  if (clamp_magnitude(output.torque, m_torque_limit)) events |= safety_clamped_torque;
+  if (detail::clamp_magnitude(output.force, m_force_limit)) events |= safety_clamped_force;
+  if (detail::clamp_magnitude(output.torque, m_torque_limit)) events |= safety_clamped_torque;
   if (m_ramp_step < m_options.ramp_cycles) {
     ++m_ramp_step;
     const double factor = double(m_ramp_step) / double(m_options.ramp_cycles);

@@ -28,11 +28,6 @@ void require_stable(double h, double inertia, double stiffness, double damping,
                            " s (raise the rate, lower the stiffness or damping, or add mass)");
 }
 
-void limit(Eigen::Vector3d& v, double magnitude) noexcept {
-  const double norm = v.stableNorm();
-  if (norm > magnitude) v *= magnitude / norm;
-}
-
 }  // namespace
 
 DeviceCapabilities SimulatedOperatorOptions::phantom_premium_like() {
@@ -197,8 +192,8 @@ bool SimulatedOperator::write(const Wrench& wrench) noexcept {
   m_applied = wrench;
   if (capabilities.output_dof == 0) m_applied.force.setZero();
   if (capabilities.output_dof < 6) m_applied.torque.setZero();
-  limit(m_applied.force, capabilities.max_force);
-  limit(m_applied.torque, capabilities.max_torque);
+  detail::clamp_magnitude(m_applied.force, capabilities.max_force);
+  detail::clamp_magnitude(m_applied.torque, capabilities.max_torque);
   return true;
 }
 
