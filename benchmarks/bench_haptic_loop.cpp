@@ -11,17 +11,20 @@
 // ±15° about the approach axis and rocking ±8°, and leaves. The coupling keeps the penetration
 // shallow (its force saturates at the contact force of one point half a voxel deep, §4.9).
 //
-// Part 1, full-cycle costs: HapticCycle::run in a tight loop (no real-time thread; with
-// --costs-fifo on --cpu at SCHED_FIFO, so other processes do not preempt it) for
+// Part 1, full-cycle costs: a one-hand haptic::World's cycle in a tight loop (no real-time
+// thread; with --costs-fifo on --cpu at SCHED_FIFO, so other processes do not preempt it) for
 //   a  a rigid pointshell: bunny00.off, 1.02M points in 6 levels;
 //   b  a reduced deformable one: ChineseDragon-10kv.off, 262k points in 5 levels, r = 15 (its voxel
 //      mesh anchored at its lowest 8%), stepped by ReducedNewmark under the contact's reduced
 //      force every cycle;
 //   c  a with the query's time budget (--budget, µs; graceful degradation, §3.10.3).
 // Per cycle (µs: mean, p50, p99, max, over all cycles and over those in contact): the contact
-// query and the integrator step (timed inside a ContactScene wrapper), device I/O (the simulated
+// query (its own ContactStatistics::microseconds), the integrator step (timed on a twin
+// integrator stepped after the cycle under the same reduced force: the same arithmetic, with the
+// model's coefficients just read, so if anything a lower bound), device I/O (the simulated
 // device's read and write, timed inside a Device wrapper), and the rest: the coupling step, the
-// safety layer and the cycle's bookkeeping (whole cycle minus the three).
+// safety layer and the cycle's bookkeeping (whole cycle minus query and device I/O, minus the
+// twin's step).
 //
 // Part 2, the real-time loop: HapticLoop at 1 kHz for --seconds running scene c's cycle (or a's)
 // while a busy thread loads the other core: first pinned to CPU --cpu (0) with SCHED_FIFO requested
@@ -31,19 +34,19 @@
 // lateness of each wake-up, and which misses came from late wake-ups and which from long work.
 //
 // Part 3, the multi-body runtime: scene a's pair as one cycle of a haptic::World against the same
-// pair through HapticCycle, alternating cycle by cycle (the ratio says whether the World costs
-// more for one pair); then a World of three bodies and two hands (the held dino, a bunny held
-// still by a second operator where scene a's stands, and a fixed bunny facing the dino's other
-// flank): mean and p99 of the whole cycle.
+// pair's cycle written out from the library's calls (query_contact, VirtualCoupling::step,
+// SafeDevice read and write: the single-object cycle as the thesis runs it), alternating cycle by
+// cycle (the ratio says whether the World costs more for one pair); then a World of three bodies
+// and two hands (the held dino, a bunny held still by a second operator where scene a's stands, and
+// a fixed bunny facing the dino's other flank): mean and p99 of the whole cycle.
 //
 // Per-cycle rows of every run go to <build>/benchmarks/haptic_loop_runs/*.csv. Meshes, fields,
 // pointshells, trees and bases come from bench_contact_query's cache (KHZ_CONTACT_CACHE_DIR); the
 // dragon's reduced model is cached there too.
 #include "contact_scenes.hpp"
 
+#include <khz/contact/query/contact_query.hpp>
 #include <khz/haptic/coupling/virtual_coupling.hpp>
-#include <khz/haptic/cycle/contact_scene.hpp>
-#include <khz/haptic/cycle/haptic_cycle.hpp>
 #include <khz/haptic/device/safe_device.hpp>
 #include <khz/haptic/device/simulated_operator.hpp>
 #include <khz/haptic/loop/haptic_loop.hpp>
@@ -90,31 +93,7 @@ double microseconds(Clock::duration d) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Timing wrappers: the parts of a cycle HapticCycle calls through an interface.
-
-/// Times the query and the time steps of the scene it wraps.
-class TimedScene final : public kh::ContactScene {
- public:
-  explicit TimedScene(kh::ContactScene& scene) noexcept : m_scene(scene) {}
-
-  const kc::ContactResult* query(const kh::Pose& grasp) noexcept override {
-    const Clock::time_point start = Clock::now();
-    const kc::ContactResult* result = m_scene.query(grasp);
-    query_time = Clock::now() - start;
-    return result;
-  }
-  bool advance() noexcept override {
-    const Clock::time_point start = Clock::now();
-    const bool ok = m_scene.advance();
-    advance_time = Clock::now() - start;
-    return ok;
-  }
-
-  Clock::duration query_time{}, advance_time{};  // of the current cycle
-
- private:
-  kh::ContactScene& m_scene;
-};
+// Timing wrapper: the device I/O of a cycle.
 
 /// Times the reads and writes of the device it wraps.
 class TimedDevice final : public kh::Device {
@@ -191,11 +170,14 @@ Placement touching_dino(const kc::PointTree& tree, double height) {
   return placement;
 }
 
-/// A scene ready to run: what HapticCycle queries, and a deformable pointshell's dynamics.
+/// A scene ready to run: the fixed pointshell body the held dino touches, and a deformable
+/// pointshell's dynamics.
 struct SceneInstance {
   std::unique_ptr<kr::PolynomialForces> forces;
-  std::unique_ptr<kr::ReducedNewmark> integrator;
-  std::unique_ptr<kh::ContactScene> scene;
+  /// The deformable pointshell's integrator (the World steps it), and a twin stepped beside it
+  /// under the same reduced forces to time a step; both null for a rigid pointshell.
+  std::unique_ptr<kr::ReducedNewmark> integrator, twin;
+  kh::Body pointshell;
   /// The deepest penetration (m, ≥ 0) with the dino's grasp frame at `grasp`.
   std::function<double(const kh::Pose& grasp)> depth;
   /// A deformable pointshell's largest vertex displacement now (m); empty for a rigid one.
@@ -216,10 +198,11 @@ SceneSpec bunny_scene(const std::string& name, const kc::ContactOptions& contact
       "bunny", khz::bench::demo_mesh("bunny00.off", 0.5), false, 256, 750, 6));
   static const Placement placement = touching_dino(tree, 0.05);
   SceneSpec spec{name, placement, contact, {}, &tree};
-  spec.make = [](const kc::ContactOptions& options) {
+  spec.make = [](const kc::ContactOptions&) {
     SceneInstance s;
-    s.scene = std::make_unique<kh::PointshellFieldScene<kc::PointTree, kc::DistanceGrid>>(
-        tree, dino_field(), options, placement.grasp, placement.pointshell);
+    s.pointshell.name = "bunny";
+    s.pointshell.pose = placement.pointshell;
+    s.pointshell.pointshell = &tree;
     s.depth = [](const kh::Pose& grasp) {
       return std::max(
           0.0, -khz::bench::min_distance(
@@ -259,7 +242,7 @@ SceneSpec dragon_scene(const kc::ContactOptions& contact) {
   static const kr::ReducedModel& model = dragon_model(volume, basis);
   static const Placement placement = touching_dino(tree.tree(), 0.0);
   SceneSpec spec{"b deformable dragon 262k r=15", placement, contact, {}};
-  spec.make = [](const kc::ContactOptions& options) {
+  spec.make = [](const kc::ContactOptions&) {
     SceneInstance s;
     s.forces = std::make_unique<kr::PolynomialForces>(model.energy_polynomial());
     kr::ReducedNewmarkOptions newmark = model.defaults().newmark_options();
@@ -267,8 +250,11 @@ SceneSpec dragon_scene(const kc::ContactOptions& contact) {
     newmark.newmark.mass_damping = 1.0;  // a little damping, so contact does not ring for long
     newmark.newmark.stiffness_damping = 1e-3;
     s.integrator = std::make_unique<kr::ReducedNewmark>(*s.forces, model.mass(), newmark);
-    s.scene = std::make_unique<kh::PointshellFieldScene<kc::DeformablePointTree, kc::DistanceGrid>>(
-        tree, dino_field(), options, placement.grasp, placement.pointshell, s.integrator.get());
+    s.twin = std::make_unique<kr::ReducedNewmark>(*s.forces, model.mass(), newmark);
+    s.pointshell.name = "dragon";
+    s.pointshell.pose = placement.pointshell;
+    s.pointshell.pointshell = &tree;
+    s.pointshell.integrator = s.integrator.get();
     s.deformation = [integrator = s.integrator.get()] {
       const Eigen::VectorXd u = basis.vectors * integrator->coordinates();
       return Eigen::Map<const Eigen::Matrix3Xd>(u.data(), 3, u.size() / 3)
@@ -332,52 +318,87 @@ kh::CouplingOptions coupling_options(const kc::ContactOptions& contact, const Pl
   return o;
 }
 
-/// Everything one scene's haptic cycle runs on, wired as HapticCycle borrows it.
+/// The grasp frame the script starts at (world): its first anchor, moved to the dino's grasp.
+kh::Pose script_start(const Placement& placement) {
+  kh::Pose p = hand_target()(0.0);
+  p.position += placement.grasp;
+  return p;
+}
+
+/// The held dino (its 256³ field the haptic object), placed at the script's start.
+kh::Body held_dino(const Placement& placement) {
+  kh::Body body;
+  body.name = "dino";
+  body.field = &dino_field();
+  body.pose = kh::held_body_pose(script_start(placement), placement.grasp);
+  return body;
+}
+
+/// The device, mapped so the script's origin lands on the dino's grasp point.
+kh::WorkspaceMapping grasp_mapping(const Placement& placement) {
+  kh::WorkspaceMapping m;
+  m.offset.position = placement.grasp;
+  return m;
+}
+
+/// One scene's haptic cycle: a World of the held dino and the scene's pointshell, one simulated
+/// operator's hand holding the dino.
 class Rig {
  public:
   Rig(const SceneSpec& spec, const kc::ContactOptions& contact)
       : m_instance(spec.make(contact)),
         m_operator(hand_target()),
         m_device(m_operator),
-        m_safe(m_device, {}, mapping(spec.placement)),
-        m_coupling(coupling_options(contact, spec.placement, m_operator.capabilities()),
-                   start_pose(spec.placement)),
-        m_scene(*m_instance.scene),
-        m_cycle(m_safe, m_coupling, m_scene) {
+        m_safe(m_device, {}, grasp_mapping(spec.placement)),
+        m_world({held_dino(spec.placement), m_instance.pointshell},
+                {hand(m_safe, coupling_options(contact, spec.placement, m_operator.capabilities()),
+                      spec.placement)},
+                contact) {
     m_safe.open();
   }
 
-  /// One cycle at `now` (s); `clock` reads the same clock.
+  /// One cycle at `now` (s); `clock` reads the same clock. Then a deformable pointshell's twin
+  /// integrator takes the same step, timed (integrator_time()).
   template <typename ClockFunction>
   const kh::CycleRecord& run(double now, ClockFunction&& clock) noexcept {
-    m_scene.query_time = m_scene.advance_time = m_device.io_time = {};
-    return m_cycle.run(now, now + period, clock);
+    m_device.io_time = {};
+    const kh::CycleRecord& record = m_world.cycle(now, now + period, clock)[0];
+    m_integrator_time = {};
+    if (m_instance.twin != nullptr) {
+      const Clock::time_point start = Clock::now();
+      m_instance.twin->step(m_world.reduced_force(1));
+      m_integrator_time = Clock::now() - start;
+    }
+    return record;
   }
 
-  const TimedScene& scene() const noexcept { return m_scene; }
+  /// The last cycle's contact query (µs, as the query measured itself).
+  double query_microseconds() const noexcept {
+    return m_world.records()[0].contact.statistics.microseconds;
+  }
+  /// The twin integrator's step after the last cycle (zero for a rigid pointshell).
+  Clock::duration integrator_time() const noexcept { return m_integrator_time; }
   const TimedDevice& device() const noexcept { return m_device; }
   const kh::SafeDevice& safe() const noexcept { return m_safe; }
   const SceneInstance& instance() const noexcept { return m_instance; }
 
  private:
-  static kh::WorkspaceMapping mapping(const Placement& placement) {
-    kh::WorkspaceMapping m;
-    m.offset.position = placement.grasp;
-    return m;
-  }
-  static kh::Pose start_pose(const Placement& placement) {
-    kh::Pose p = hand_target()(0.0);
-    p.position += placement.grasp;
-    return p;
+  static kh::Hand hand(kh::SafeDevice& device, const kh::CouplingOptions& coupling,
+                       const Placement& placement) {
+    kh::Hand h;
+    h.body = 0;
+    h.grasp_in_body = placement.grasp;
+    h.device = &device;
+    h.coupling = coupling;
+    return h;
   }
 
   SceneInstance m_instance;
   kh::SimulatedOperator m_operator;
   TimedDevice m_device;
   kh::SafeDevice m_safe;
-  kh::VirtualCoupling m_coupling;
-  TimedScene m_scene;
-  kh::HapticCycle m_cycle;
+  kh::World m_world;
+  Clock::duration m_integrator_time{};
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -455,11 +476,11 @@ CostRun run_costs(const SceneSpec& spec, int cycles, bool pause) {
     const kh::CycleRecord& r = rig.run(now, [&] { return now + khz::bench::seconds_since(start); });
     const double total = microseconds(Clock::now() - start);
     std::array<double, part_count> us{};
-    us[whole] = total;
-    us[query] = microseconds(rig.scene().query_time);
-    us[integrator] = microseconds(rig.scene().advance_time);
+    us[integrator] = microseconds(rig.integrator_time());
+    us[whole] = total - us[integrator];  // the twin's step ran after the World's cycle
+    us[query] = rig.query_microseconds();
     us[device_io] = microseconds(rig.device().io_time);
-    us[coupling_rest] = total - us[query] - us[integrator] - us[device_io];
+    us[coupling_rest] = us[whole] - us[query] - us[integrator] - us[device_io];
     const bool touching = r.contact.statistics.points_in_contact > 0;
     for (int p = 0; p < part_count; ++p) {
       run.all[p].push_back(us[p]);
@@ -700,7 +721,7 @@ void run_loop(const SceneSpec& spec, const LoopRunOptions& options) {
     if (i < trace.woke.size()) {
       trace.woke[i] = microseconds(woke - origin) - 1e6 * clock.time;
       trace.work[i] = microseconds(Clock::now() - woke);
-      trace.query[i] = microseconds(rig.scene().query_time);
+      trace.query[i] = rig.query_microseconds();
       trace.contacts[i] = r.contact.statistics.points_in_contact;
       trace.size = i + 1;
     }
@@ -844,8 +865,61 @@ void print_world_costs(const char* name, const WorldCosts& costs) {
       costs.failures);
 }
 
-/// Scene a's pair run two ways in lock step, cycle by cycle (so both see the machine alike): as
-/// before by HapticCycle over PointshellFieldScene, and by a World of its two bodies; then a
+/// The single-object cycle of thesis Figure 4.2 written out from the library's calls, for the held
+/// dino against a fixed rigid pointshell: read the device, query at the simulation pose, step the
+/// coupling, write the rendered wrench (zero if anything failed). The reference a World of one
+/// pair is measured against.
+class WrittenOutCycle {
+ public:
+  WrittenOutCycle(const SceneSpec& spec, kh::SafeDevice& device,
+                  const kh::CouplingOptions& coupling)
+      : m_tree(*spec.rigid_tree),
+        m_placement(spec.placement),
+        m_device(device),
+        m_coupling(coupling, script_start(spec.placement)),
+        m_workspace(*spec.rigid_tree, spec.contact) {}
+
+  const kh::CycleRecord& run(double now) noexcept {
+    m_device.begin_cycle(now + period);
+    kh::CycleRecord& r = m_record;
+    r = kh::CycleRecord{};
+    r.time = now;
+    r.device_valid = m_device.read(m_state);
+    r.manipulandum = m_state.pose;
+    kh::Wrench rendered;
+    if (r.device_valid) {
+      const kh::Pose& grasp = m_coupling.simulation_pose();
+      kc::ContactFrames frames;
+      frames.pointshell = m_placement.pointshell;
+      frames.field = kh::held_body_pose(grasp, m_placement.grasp);
+      frames.grasp_point = grasp.position;
+      r.contact_valid = kc::query_contact(m_tree, dino_field(), frames, m_workspace);
+      if (r.contact_valid) {
+        r.contact = m_workspace.result();
+        const kh::CouplingStep step = m_coupling.step(m_state.pose, r.contact);
+        r.coupling_valid = step.valid;
+        if (step.valid) rendered = step.rendered;
+      }
+    }
+    r.simulation = m_coupling.simulation_pose();
+    m_device.write(rendered);
+    r.rendered = m_device.last_output();
+    m_device.end_cycle(now);
+    return r;
+  }
+
+ private:
+  const kc::PointTree& m_tree;
+  const Placement& m_placement;
+  kh::SafeDevice& m_device;
+  kh::VirtualCoupling m_coupling;
+  kc::ContactWorkspace m_workspace;
+  kh::DeviceState m_state;
+  kh::CycleRecord m_record;
+};
+
+/// Scene a's pair run two ways in lock step, cycle by cycle (so both see the machine alike):
+/// written out from the library's calls (WrittenOutCycle), and by a World of its two bodies; then a
 /// World of three bodies and two hands: the held dino, a bunny held by a second hand at its
 /// place (still), and a fixed bunny turned to face the dino's other flank.
 void run_world(const SceneSpec& spec, int cycles) {
@@ -854,12 +928,7 @@ void run_world(const SceneSpec& spec, int cycles) {
   const kh::DeviceCapabilities capabilities = kh::SimulatedOperator(hand_target()).capabilities();
   const kh::CouplingOptions coupling = coupling_options(spec.contact, placement, capabilities);
 
-  const auto dino_body = [] {
-    kh::Body body;
-    body.name = "dino";
-    body.field = &dino_field();
-    return body;
-  };
+  const auto dino_body = [&] { return held_dino(placement); };
   const auto bunny_body = [&](const Eigen::Isometry3d& pose) {
     kh::Body body;
     body.name = "bunny";
@@ -876,23 +945,21 @@ void run_world(const SceneSpec& spec, int cycles) {
     return h;
   };
 
-  // One pair: HapticCycle (Rig) against World, alternating. Their watchdogs see the simulated
-  // clock, so a cycle the machine delays does not zero one's output and not the other's: the two
-  // then render the same forces, and any difference is the World's doing.
-  Rig rig(spec, spec.contact);
+  // One pair: written out against World, alternating. Their watchdogs see the simulated clock,
+  // so a cycle the machine delays does not zero one's output and not the other's: the two then
+  // render the same forces, and any difference is the World's doing. Both couplings start at the
+  // script's first anchor.
+  OperatorHand reference_hand(hand_target(), placement.grasp);
+  WrittenOutCycle reference(spec, reference_hand.safe, coupling);
   OperatorHand one_hand(hand_target(), placement.grasp);
   kh::World one_pair({dino_body(), bunny_body(placement.pointshell)},
                      {hand(0, placement.grasp, one_hand)}, spec.contact);
-  // Both couplings start where Rig's does: at the script's first anchor.
-  kh::Pose script_start = hand_target()(0.0);
-  script_start.position += placement.grasp;
-  one_pair.coupling(0).reset(script_start);
   WorldCosts cycle_costs, world_costs;
   double largest_difference = 0.0;  // N, between the two ways' contact forces
   for (int i = 0; i < cycles; ++i) {
     const double now = i * period;
     Clock::time_point start = Clock::now();
-    const kh::CycleRecord& r = rig.run(now, [now] { return now; });
+    const kh::CycleRecord& r = reference.run(now);
     cycle_costs.add(microseconds(Clock::now() - start), std::span(&r, 1));
     start = Clock::now();
     const std::span<const kh::CycleRecord> records =
@@ -902,10 +969,10 @@ void run_world(const SceneSpec& spec, int cycles) {
         std::max(largest_difference, (records.front().contact.force - r.contact.force).norm());
   }
   std::printf("\nPart 3: the multi-body World (%d cycles each, µs per whole cycle)\n", cycles);
-  print_world_costs("one pair, HapticCycle + PointshellFieldScene", cycle_costs);
+  print_world_costs("one pair, written out from the library's calls", cycle_costs);
   print_world_costs("one pair, World", world_costs);
   std::printf(
-      "  World ÷ HapticCycle: mean %.3f, p99 %.3f (in contact: mean %.3f, p99 %.3f); "
+      "  World ÷ written out: mean %.3f, p99 %.3f (in contact: mean %.3f, p99 %.3f); "
       "largest force difference %.3g N\n",
       spread(world_costs.all).mean / spread(cycle_costs.all).mean,
       spread(world_costs.all).p99 / spread(cycle_costs.all).p99,
@@ -923,7 +990,7 @@ void run_world(const SceneSpec& spec, int cycles) {
       {hand(0, placement.grasp, dino_hand),
        hand(1, placement.pointshell.inverse() * placement.grasp, bunny_hand)},
       spec.contact);
-  two_hands.coupling(0).reset(script_start);
+
   WorldCosts three_bodies;
   long both_in_contact = 0;
   for (int i = 0; i < cycles; ++i) {

@@ -1,15 +1,14 @@
 #pragma once
 // Shared fixtures of the hard-case stability tests (test_haptic_hard_cases.cpp): pointshells of
 // simple solids, analytic environments sampled onto distance grids, the contact and coupling
-// settings every case shares (thesis §3.5, §4.6–§4.9), and a harness that runs HapticCycle in
-// simulated time and records every cycle.
+// settings every case shares (thesis §3.5, §4.6–§4.9), and a harness that runs a one-pair World
+// in simulated time and records every cycle.
 
 #include <khz/contact/field/distance_grid.hpp>
 #include <khz/contact/pointshell/nested_levels.hpp>
 #include <khz/contact/tree/point_tree.hpp>
-#include <khz/haptic/cycle/contact_scene.hpp>
-#include <khz/haptic/cycle/haptic_cycle.hpp>
 #include <khz/haptic/device/simulated_operator.hpp>
+#include <khz/haptic/world/world.hpp>
 #include <khz/test/sphere_points.hpp>
 
 #include <Eigen/Geometry>
@@ -193,19 +192,52 @@ struct Sample {
   Pose device;                 ///< The device's true pose (also while its reads fail).
 };
 
-/// A simulated hand on a simulated device, its safety layer, a coupling starting at the target's
-/// first pose, and HapticCycle over `scene`, run at 1 kHz in simulated time (as
-/// test_haptic_cycle.cpp does). Every cycle's record is kept in trace().
+/// The two bodies of a one-pair World: a pointshell body (a PointTree, or a DeformablePointTree
+/// with its integrator) and a distance-field body (any of Body's field kinds; a
+/// DeformedFieldState with its integrator). The one ContactOptions::haptic_object names is held
+/// (body 0, placed by the Harness), the other fixed at `fixed_pose` (body 1).
+struct PairScene {
+  template <typename Tree, typename Field>
+  PairScene(const Tree& tree, Field& field, const contact::ContactOptions& options,
+            const Eigen::Vector3d& grasp, const Eigen::Isometry3d& fixed_pose,
+            reduced::ReducedIntegrator* integrator = nullptr,
+            reduced::ReducedIntegrator* field_integrator = nullptr)
+      : contact(options), grasp_in_body(grasp) {
+    Body pointshell_body;
+    pointshell_body.name = "pointshell";
+    pointshell_body.pointshell = &tree;
+    pointshell_body.integrator = integrator;
+    Body field_body;
+    field_body.name = "field";
+    field_body.field = &field;
+    field_body.integrator = field_integrator;
+    if (options.haptic_object == contact::HapticObject::pointshell) {
+      field_body.pose = fixed_pose;
+      bodies = {pointshell_body, field_body};
+    } else {
+      pointshell_body.pose = fixed_pose;
+      bodies = {field_body, pointshell_body};
+    }
+  }
+
+  std::vector<Body> bodies;
+  contact::ContactOptions contact;
+  Eigen::Vector3d grasp_in_body;
+};
+
+/// A simulated hand on a simulated device, its safety layer, and a World of `scene`'s two bodies
+/// whose one hand holds body 0, its coupling starting at the target's first pose, run at 1 kHz in
+/// simulated time. Every cycle's record is kept in trace().
 class Harness {
  public:
   /// @param penetration how deep the held object is at a simulation pose (m); may be empty.
-  Harness(TargetFunction target, ContactScene& scene, const CouplingOptions& coupling,
+  Harness(TargetFunction target, const PairScene& scene, const CouplingOptions& coupling,
           std::function<double(const Pose&)> penetration = {}, const SafetyOptions& safety = {},
           const SimulatedOperatorOptions& hand = {})
       : m_device(target, hand),
         m_safe(m_device, safety),
-        m_coupling(coupling, target(0.0)),
-        m_cycle(m_safe, m_coupling, scene),
+        m_world(held_at(scene.bodies, held_body_pose(target(0.0), scene.grasp_in_body)),
+                {hand_for(m_safe, coupling, scene.grasp_in_body)}, scene.contact),
         m_penetration(std::move(penetration)) {
     m_safe.open();
   }
@@ -218,7 +250,7 @@ class Harness {
   const Sample& step() {
     const double now = static_cast<double>(m_trace.size()) * period;
     Sample sample;
-    sample.record = m_cycle.run(now, now + period, [&] { return now + 0.1 * period; });
+    sample.record = m_world.cycle(now, now + period, [&] { return now + 0.1 * period; })[0];
     sample.device_energy = m_device.kinetic_energy();
     sample.device = m_device.pose();
     if (m_penetration) sample.penetration = m_penetration(sample.record.simulation);
@@ -228,16 +260,30 @@ class Harness {
 
   const std::vector<Sample>& trace() const { return m_trace; }
   SimulatedOperator& device() { return m_device; }
-  VirtualCoupling& coupling() { return m_coupling; }
+  VirtualCoupling& coupling() { return m_world.coupling(0); }
   SafeDevice& safe() { return m_safe; }
+  World& world() { return m_world; }
 
   static constexpr double period = 1e-3;  ///< s, the simulated device's 1 kHz
 
  private:
+  static std::vector<Body> held_at(std::vector<Body> bodies, const Eigen::Isometry3d& pose) {
+    bodies[0].pose = pose;
+    return bodies;
+  }
+  static Hand hand_for(SafeDevice& device, const CouplingOptions& coupling,
+                       const Eigen::Vector3d& grasp_in_body) {
+    Hand hand;
+    hand.body = 0;
+    hand.grasp_in_body = grasp_in_body;
+    hand.device = &device;
+    hand.coupling = coupling;
+    return hand;
+  }
+
   SimulatedOperator m_device;
   SafeDevice m_safe;
-  VirtualCoupling m_coupling;
-  HapticCycle m_cycle;
+  World m_world;
   std::function<double(const Pose&)> m_penetration;
   std::vector<Sample> m_trace;
 };
@@ -264,20 +310,20 @@ double largest(const std::vector<Sample>& trace, std::size_t begin, std::size_t 
 }
 
 /// The rendered stiffness of §4.7 at a manipulandum pose, measured as the theorem defines it:
-/// the coupling (a copy, so the run is not disturbed) is stepped against fresh queries at a
-/// fixed manipulandum until the simulation object is at rest (static virtual coupling's
-/// quasi-static equilibrium, what continuous time control would render), the manipulandum is
-/// moved by `delta` along `direction` and the equilibrium found again:
-/// ‖Δ rendered force‖ / delta (N/m).
-inline double quasi_static_stiffness(VirtualCoupling coupling, ContactScene& scene,
+/// the coupling (a copy, so the run is not disturbed) is stepped against fresh queries of the
+/// world's one hand (World::probe(), which steps nothing) at a fixed manipulandum until the
+/// simulation object is at rest (static virtual coupling's quasi-static equilibrium, what
+/// continuous time control would render), the manipulandum is moved by `delta` along
+/// `direction` and the equilibrium found again: ‖Δ rendered force‖ / delta (N/m).
+inline double quasi_static_stiffness(VirtualCoupling coupling, World& world,
                                      const Pose& manipulandum, const Eigen::Vector3d& direction,
                                      double delta, int iterations = 400) {
   const auto settle = [&](const Pose& m) {
     Eigen::Vector3d rendered = Eigen::Vector3d::Constant(std::nan(""));
     for (int i = 0; i < iterations; ++i) {
-      const contact::ContactResult* contact = scene.query(coupling.simulation_pose());
-      if (contact == nullptr) break;
-      rendered = coupling.step(m, *contact).rendered.force;
+      const Pose grasp = coupling.simulation_pose();
+      if (!world.probe(std::span(&grasp, 1))) break;
+      rendered = coupling.step(m, world.wrench(0)).rendered.force;
     }
     return rendered;
   };

@@ -72,8 +72,8 @@ TEST(HardCases, DeformablePointshellPushedHardAndReleased) {
   // at its centre. The hand comes down on the beam 3 cm from its tip, pushes 3 cm past its top
   // face (far beyond what the saturated coupling transmits), holds, and lets go at t = 0.8 s.
   const contact::ImplicitShape ball = contact::Sphere(Eigen::Vector3d::Zero(), ball_radius);
-  PointshellFieldScene scene(b.tree, ball, contact_options(contact::HapticObject::distance_field),
-                             Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity(), &b.integrator);
+  const PairScene scene(b.tree, ball, contact_options(contact::HapticObject::distance_field),
+                        Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity(), &b.integrator);
   const Eigen::Vector3d above(0.17, 0.01, beam_side + ball_radius + 0.01);
   const TargetFunction target = keyframe_target({{0.0, at(above)},
                                                  {0.3, at(above - Eigen::Vector3d(0, 0, 0.04))},
@@ -103,9 +103,10 @@ TEST(HardCases, DeformablePointshellPushedHardAndReleased) {
   const double energy_held = b.energy();
   EXPECT_GT(energy_held, 1e-6) << "the beam was bent";
   // Rendered stiffness at the held pose, as §4.7 defines it (fixed deformation).
-  EXPECT_LE(quasi_static_stiffness(harness.coupling(), scene, pushed.back().record.manipulandum,
-                                   Eigen::Vector3d::UnitZ(), 1e-4),
-            coupling_stiffness * (1.0 + 1e-6));
+  EXPECT_LE(
+      quasi_static_stiffness(harness.coupling(), harness.world(), pushed.back().record.manipulandum,
+                             Eigen::Vector3d::UnitZ(), 1e-4),
+      coupling_stiffness * (1.0 + 1e-6));
 
   // Released: once the ball has left, the beam's energy only decays (damping; no contact feeds
   // it), and the beam returns to rest.
@@ -153,10 +154,10 @@ TEST(HardCases, DeformableToolAgainstDeformableBeam) {
       {contact::signed_distance_field(DeformableBeam::surface(), grid)},
       reduced::MeshEmbedding(tool.beam.model.mesh()), tool.model.basis().vectors);
   contact::DeformedFieldState tool_state(tool_field);
-  PointshellFieldScene scene(beam.tree, tool_state,
-                             contact_options(contact::HapticObject::distance_field),
-                             Eigen::Vector3d(0.0, beam_side / 2, beam_side / 2),
-                             Eigen::Isometry3d::Identity(), &beam.integrator, &tool.integrator);
+  const PairScene scene(beam.tree, tool_state,
+                        contact_options(contact::HapticObject::distance_field),
+                        Eigen::Vector3d(0.0, beam_side / 2, beam_side / 2),
+                        Eigen::Isometry3d::Identity(), &beam.integrator, &tool.integrator);
   // Tool axis x turned onto world −z; its tip starts 1 cm above the beam at x = 17 cm.
   const Eigen::Quaterniond down(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitY()));
   const Eigen::Vector3d above(0.17, beam_side / 2, beam_side + beam_length + 0.01);

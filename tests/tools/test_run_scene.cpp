@@ -5,7 +5,6 @@
 #include "scene_fixtures.hpp"
 
 #include <khz/contact/query/contact_query.hpp>
-#include <khz/haptic/cycle/contact_scene.hpp>
 #include <khz/haptic/device/null_device.hpp>
 #include <khz/haptic/device/trajectory_file.hpp>
 #include <khz/run/cycle_log.hpp>
@@ -78,22 +77,24 @@ const contact::ContactWrench* probe(scene::SceneRuntime& runtime, const haptic::
   return runtime.world().probe(grasps) ? &runtime.world().wrench(0) : nullptr;
 }
 
-// The reference: libhaptic's PointshellFieldScene for the same pair gives the same result, to
-// round-off (each compiles the query's traversal into its own caller, where the compiler may
-// fuse multiply-adds differently).
-TEST(SceneRuntime, OnePairEqualsLibhapticsPointshellFieldScene) {
+// The reference: the query of the same pair made directly, the tool's body placed by its grasp
+// frame, gives the same result to round-off (each compiles the query's traversal into its own
+// caller, where the compiler may fuse multiply-adds differently).
+TEST(SceneRuntime, OnePairEqualsTheDirectQuery) {
   const scene::PreparedScene prepared = prepare(cube_scene());
   scene::SceneRuntime runtime(prepared);
   const contact::PointTree& tree = *prepared.objects[1].tree;
   const contact::DistanceGrid& field = *prepared.objects[0].field;
-  haptic::PointshellFieldScene reference(tree, field, prepared.description.contact,
-                                         runtime.grasp_in_body(), Eigen::Isometry3d::Identity());
+  contact::ContactWorkspace reference(tree, prepared.description.contact);
   for (const double y : {0.075, 0.0695, 0.069, 0.0685, 0.068}) {
     const haptic::Pose grasp = grasp_at(0.003, y, -0.002);
     const contact::ContactWrench* ours = probe(runtime, grasp);
-    const contact::ContactResult* theirs = reference.query(grasp);
+    contact::ContactFrames frames;
+    frames.pointshell = haptic::held_body_pose(grasp, runtime.grasp_in_body());
+    frames.grasp_point = grasp.position;
     ASSERT_NE(ours, nullptr);
-    ASSERT_NE(theirs, nullptr);
+    ASSERT_TRUE(contact::query_contact(tree, field, frames, reference));
+    const contact::ContactResult* theirs = &reference.result();
     const auto close = [](const auto& a, const auto& b) {
       return (a - b).norm() <= 1e-12 * std::max(a.norm(), b.norm());
     };

@@ -5,9 +5,9 @@
 #include <khz/contact/query/contact_options.hpp>
 #include <khz/contact/query/contact_result.hpp>
 #include <khz/haptic/coupling/virtual_coupling.hpp>
-#include <khz/haptic/cycle/haptic_cycle.hpp>
 #include <khz/haptic/export.hpp>
 #include <khz/haptic/world/body.hpp>
+#include <khz/haptic/world/cycle_record.hpp>
 #include <khz/haptic/world/hand.hpp>
 
 #include <functional>

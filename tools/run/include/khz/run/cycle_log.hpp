@@ -2,7 +2,7 @@
 // What `khz run` records per haptic cycle, and its CSV file (read back by `khz report` and
 // `khz info`).
 
-#include <khz/haptic/cycle/haptic_cycle.hpp>
+#include <khz/haptic/world/cycle_record.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

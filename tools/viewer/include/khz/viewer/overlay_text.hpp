@@ -2,7 +2,7 @@
 // What the viewer writes over the scene: the loop's and the drawing's rates, each hand's contact
 // wrench and counters, and the keys and mouse buttons.
 
-#include <khz/haptic/cycle/haptic_cycle.hpp>
+#include <khz/haptic/world/cycle_record.hpp>
 
 #include <span>
 #include <string>

@@ -1,7 +1,7 @@
 #pragma once
 // What the haptic thread hands the drawing thread after every cycle.
 
-#include <khz/haptic/cycle/haptic_cycle.hpp>
+#include <khz/haptic/world/cycle_record.hpp>
 #include <khz/scene/scene_runtime.hpp>
 
 #include <Eigen/Core>
