@@ -980,9 +980,21 @@ void run_world(const SceneSpec& spec, int cycles) {
       spread(world_costs.in_contact).p99 / spread(cycle_costs.in_contact).p99, largest_difference);
 
   // Two hands, three bodies: pairs dino–held bunny (queried once per hand) and dino–fixed bunny.
+  // The fixed bunny, turned half a turn about y, touches the dino's other flank where the dino
+  // starts (the script starts 3 cm back from the first bunny, towards this one).
+  const Eigen::Isometry3d dino_start = kh::held_body_pose(script_start(placement), placement.grasp);
+  const auto other_flank = [&](double u) {
+    Eigen::Isometry3d pose(Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitY()));
+    pose.translation() = Eigen::Vector3d(-u, placement.pointshell.translation().y(), 0.0);
+    return pose;
+  };
   const Eigen::Isometry3d facing_other_flank =
-      Eigen::Isometry3d(Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitY())) *
-      placement.pointshell;
+      dino_start * other_flank(khz::bench::solve_increasing(
+                       [&](double u) {
+                         return khz::bench::min_distance(khz::bench::RigidShape(bunny),
+                                                         dino_field(), other_flank(u));
+                       },
+                       1.0, 0.25 * voxel(), 1e-3 * voxel()));
   OperatorHand dino_hand(hand_target(), placement.grasp);
   OperatorHand bunny_hand([](double) { return kh::Pose{}; }, placement.grasp);
   kh::World two_hands(
