@@ -2,6 +2,8 @@
 #include <khz/haptic/coupling/rotation_vector.hpp>
 #include <khz/haptic/coupling/virtual_coupling.hpp>
 
+#include "clamp_magnitude.hpp"
+
 #include <cmath>
 
 namespace khz::haptic {
@@ -18,14 +20,6 @@ bool finite(const contact::ContactWrench& contact) noexcept {
   return contact.force.allFinite() && contact.torque.allFinite() &&
          contact.force_by_translation.allFinite() && contact.force_by_rotation.allFinite() &&
          contact.torque_by_translation.allFinite() && contact.torque_by_rotation.allFinite();
-}
-
-// Shortens v to length `limit` if it is longer, keeping its direction; returns whether it did.
-bool clamp_length(Eigen::Vector3d& v, double limit) noexcept {
-  const double length = v.norm();
-  if (length <= limit) return false;
-  v *= limit / length;
-  return true;
 }
 
 }  // namespace
@@ -74,8 +68,10 @@ CouplingStep VirtualCoupling::step(const Pose& manipulandum,
   const Vector6d motion = (1.0 - m_options.static_damping) * scale.cwiseProduct(solution.step);
   Eigen::Vector3d translation = motion.head<3>();
   Eigen::Vector3d rotation = motion.tail<3>();
-  const bool speed_limited = clamp_length(translation, m_options.max_translation_per_cycle());
-  const bool angular_speed_limited = clamp_length(rotation, m_options.max_rotation_per_cycle());
+  const bool speed_limited =
+      detail::clamp_magnitude(translation, m_options.max_translation_per_cycle());
+  const bool angular_speed_limited =
+      detail::clamp_magnitude(rotation, m_options.max_rotation_per_cycle());
   if (!translation.allFinite() || !rotation.allFinite()) return result;  // overflow in the solve
 
   m_simulation.position += translation;
@@ -87,8 +83,10 @@ CouplingStep VirtualCoupling::step(const Pose& manipulandum,
   result.simulation = m_simulation;
   result.rendered.force = -after.linear_force;
   result.rendered.torque = -after.linear_torque;
-  result.force_clamped = clamp_length(result.rendered.force, m_options.max_rendered_force);
-  result.torque_clamped = clamp_length(result.rendered.torque, m_options.max_rendered_torque);
+  result.force_clamped =
+      detail::clamp_magnitude(result.rendered.force, m_options.max_rendered_force);
+  result.torque_clamped =
+      detail::clamp_magnitude(result.rendered.torque, m_options.max_rendered_torque);
   result.coupling.force = after.force;
   result.coupling.torque = after.torque;
   result.degenerate_dimension = solution.degenerate_dimension;

@@ -24,16 +24,4 @@ inline bool is_valid_pose(const Pose& pose) noexcept {
          std::abs(pose.orientation.norm() - 1.0) <= unit_quaternion_tolerance;
 }
 
-/// Scales `v` down to magnitude `limit` if it is longer, keeping its direction; returns whether it
-/// did. The magnitude is std::hypot's, a function of the three values alone: Eigen's
-/// stableNorm() of a Vector3d sums in an order that depends on the vector's address (it splits
-/// at the first SIMD-aligned coefficient), so the same wrench could be clamped or not depending
-/// on the caller's stack.
-inline bool clamp_magnitude(Eigen::Vector3d& v, double limit) noexcept {
-  const double magnitude = std::hypot(v.x(), v.y(), v.z());
-  if (magnitude <= limit) return false;
-  v *= limit / magnitude;
-  return true;
-}
-
 }  // namespace khz::haptic::detail

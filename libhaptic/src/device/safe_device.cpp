@@ -1,5 +1,6 @@
 #include <khz/haptic/device/safe_device.hpp>
 
+#include "clamp_magnitude.hpp"
 #include "device/pose_math.hpp"
 
 #include <algorithm>

@@ -2,6 +2,7 @@
 
 #include <khz/haptic/coupling/rotation_vector.hpp>
 
+#include "clamp_magnitude.hpp"
 #include "device/pose_math.hpp"
 
 #include <cmath>
