@@ -192,6 +192,16 @@ struct SceneSpec {
   const kc::PointTree* rigid_tree = nullptr;  // the pointshell of a rigid one
 };
 
+/// A rigid pointshell body at `pose` (world ← body).
+kh::Body rigid_pointshell(std::string name, const kc::PointTree& tree,
+                          const Eigen::Isometry3d& pose) {
+  kh::Body body;
+  body.name = std::move(name);
+  body.pose = pose;
+  body.pointshell = &tree;
+  return body;
+}
+
 /// A and C: bunny00.off (0.5 m) as a 1.02M-point, 6-level pointshell beside the dino's flank.
 SceneSpec bunny_scene(const std::string& name, const kc::ContactOptions& contact) {
   static const kc::PointTree tree(khz::bench::cached_pointshell(
@@ -200,9 +210,7 @@ SceneSpec bunny_scene(const std::string& name, const kc::ContactOptions& contact
   SceneSpec spec{name, placement, contact, {}, &tree};
   spec.make = [](const kc::ContactOptions&) {
     SceneInstance s;
-    s.pointshell.name = "bunny";
-    s.pointshell.pose = placement.pointshell;
-    s.pointshell.pointshell = &tree;
+    s.pointshell = rigid_pointshell("bunny", tree, placement.pointshell);
     s.depth = [](const kh::Pose& grasp) {
       return std::max(
           0.0, -khz::bench::min_distance(
@@ -334,11 +342,22 @@ kh::Body held_dino(const Placement& placement) {
   return body;
 }
 
-/// The device, mapped so the script's origin lands on the dino's grasp point.
-kh::WorkspaceMapping grasp_mapping(const Placement& placement) {
+/// A device mapping that puts the device's origin at `origin` (world).
+kh::WorkspaceMapping origin_at(const Eigen::Vector3d& origin) {
   kh::WorkspaceMapping m;
-  m.offset.position = placement.grasp;
+  m.offset.position = origin;
   return m;
+}
+
+/// A hand holding body `body` at `grasp` (its body frame) through `device`.
+kh::Hand holding(int body, const Eigen::Vector3d& grasp, kh::SafeDevice& device,
+                 const kh::CouplingOptions& coupling) {
+  kh::Hand hand;
+  hand.body = body;
+  hand.grasp_in_body = grasp;
+  hand.device = &device;
+  hand.coupling = coupling;
+  return hand;
 }
 
 /// One scene's haptic cycle: a World of the held dino and the scene's pointshell, one simulated
@@ -349,10 +368,10 @@ class Rig {
       : m_instance(spec.make(contact)),
         m_operator(hand_target()),
         m_device(m_operator),
-        m_safe(m_device, {}, grasp_mapping(spec.placement)),
+        m_safe(m_device, {}, origin_at(spec.placement.grasp)),
         m_world({held_dino(spec.placement), m_instance.pointshell},
-                {hand(m_safe, coupling_options(contact, spec.placement, m_operator.capabilities()),
-                      spec.placement)},
+                {holding(0, spec.placement.grasp, m_safe,
+                         coupling_options(contact, spec.placement, m_operator.capabilities()))},
                 contact) {
     m_safe.open();
   }
@@ -383,16 +402,6 @@ class Rig {
   const SceneInstance& instance() const noexcept { return m_instance; }
 
  private:
-  static kh::Hand hand(kh::SafeDevice& device, const kh::CouplingOptions& coupling,
-                       const Placement& placement) {
-    kh::Hand h;
-    h.body = 0;
-    h.grasp_in_body = placement.grasp;
-    h.device = &device;
-    h.coupling = coupling;
-    return h;
-  }
-
   SceneInstance m_instance;
   kh::SimulatedOperator m_operator;
   TimedDevice m_device;
@@ -830,11 +839,7 @@ void run_loop(const SceneSpec& spec, const LoopRunOptions& options) {
 /// device origin is the world point `origin` (the held body's grasp point at rest).
 struct OperatorHand {
   OperatorHand(kh::TargetFunction target, const Eigen::Vector3d& origin)
-      : device(std::move(target)), safe(device, {}, [&] {
-          kh::WorkspaceMapping m;
-          m.offset.position = origin;
-          return m;
-        }()) {
+      : device(std::move(target)), safe(device, {}, origin_at(origin)) {
     safe.open();
   }
   kh::SimulatedOperator device;
@@ -928,21 +933,8 @@ void run_world(const SceneSpec& spec, int cycles) {
   const kh::DeviceCapabilities capabilities = kh::SimulatedOperator(hand_target()).capabilities();
   const kh::CouplingOptions coupling = coupling_options(spec.contact, placement, capabilities);
 
-  const auto dino_body = [&] { return held_dino(placement); };
   const auto bunny_body = [&](const Eigen::Isometry3d& pose) {
-    kh::Body body;
-    body.name = "bunny";
-    body.pose = pose;
-    body.pointshell = &bunny;
-    return body;
-  };
-  const auto hand = [&](int body, const Eigen::Vector3d& grasp, OperatorHand& held) {
-    kh::Hand h;
-    h.body = body;
-    h.grasp_in_body = grasp;
-    h.device = &held.safe;
-    h.coupling = coupling;
-    return h;
+    return rigid_pointshell("bunny", bunny, pose);
   };
 
   // One pair: written out against World, alternating. Their watchdogs see the simulated clock,
@@ -952,8 +944,8 @@ void run_world(const SceneSpec& spec, int cycles) {
   OperatorHand reference_hand(hand_target(), placement.grasp);
   WrittenOutCycle reference(spec, reference_hand.safe, coupling);
   OperatorHand one_hand(hand_target(), placement.grasp);
-  kh::World one_pair({dino_body(), bunny_body(placement.pointshell)},
-                     {hand(0, placement.grasp, one_hand)}, spec.contact);
+  kh::World one_pair({held_dino(placement), bunny_body(placement.pointshell)},
+                     {holding(0, placement.grasp, one_hand.safe, coupling)}, spec.contact);
   WorldCosts cycle_costs, world_costs;
   double largest_difference = 0.0;  // N, between the two ways' contact forces
   for (int i = 0; i < cycles; ++i) {
@@ -998,9 +990,9 @@ void run_world(const SceneSpec& spec, int cycles) {
   OperatorHand dino_hand(hand_target(), placement.grasp);
   OperatorHand bunny_hand([](double) { return kh::Pose{}; }, placement.grasp);
   kh::World two_hands(
-      {dino_body(), bunny_body(placement.pointshell), bunny_body(facing_other_flank)},
-      {hand(0, placement.grasp, dino_hand),
-       hand(1, placement.pointshell.inverse() * placement.grasp, bunny_hand)},
+      {held_dino(placement), bunny_body(placement.pointshell), bunny_body(facing_other_flank)},
+      {holding(0, placement.grasp, dino_hand.safe, coupling),
+       holding(1, placement.pointshell.inverse() * placement.grasp, bunny_hand.safe, coupling)},
       spec.contact);
 
   WorldCosts three_bodies;
