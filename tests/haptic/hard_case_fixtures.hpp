@@ -225,6 +225,17 @@ struct PairScene {
   Eigen::Vector3d grasp_in_body;
 };
 
+/// A hand holding body 0 of a World at `grasp_in_body` through `device`.
+inline Hand holding_body_0(SafeDevice& device, const CouplingOptions& coupling,
+                           const Eigen::Vector3d& grasp_in_body = Eigen::Vector3d::Zero()) {
+  Hand hand;
+  hand.body = 0;
+  hand.grasp_in_body = grasp_in_body;
+  hand.device = &device;
+  hand.coupling = coupling;
+  return hand;
+}
+
 /// A simulated hand on a simulated device, its safety layer, and a World of `scene`'s two bodies
 /// whose one hand holds body 0, its coupling starting at the target's first pose, run at 1 kHz in
 /// simulated time. Every cycle's record is kept in trace().
@@ -237,7 +248,7 @@ class Harness {
       : m_device(target, hand),
         m_safe(m_device, safety),
         m_world(held_at(scene.bodies, held_body_pose(target(0.0), scene.grasp_in_body)),
-                {hand_for(m_safe, coupling, scene.grasp_in_body)}, scene.contact),
+                {holding_body_0(m_safe, coupling, scene.grasp_in_body)}, scene.contact),
         m_penetration(std::move(penetration)) {
     m_safe.open();
   }
@@ -270,15 +281,6 @@ class Harness {
   static std::vector<Body> held_at(std::vector<Body> bodies, const Eigen::Isometry3d& pose) {
     bodies[0].pose = pose;
     return bodies;
-  }
-  static Hand hand_for(SafeDevice& device, const CouplingOptions& coupling,
-                       const Eigen::Vector3d& grasp_in_body) {
-    Hand hand;
-    hand.body = 0;
-    hand.grasp_in_body = grasp_in_body;
-    hand.device = &device;
-    hand.coupling = coupling;
-    return hand;
   }
 
   SimulatedOperator m_device;

@@ -120,11 +120,7 @@ class SingleObjectCycle {
 
 /// Hand 0 holding body 0 through `hand`'s safety layer, with coupling_options().
 Hand holding_body_0(ScriptedHand& hand) {
-  Hand result;
-  result.body = 0;
-  result.device = &hand.safe;
-  result.coupling = coupling_options();
-  return result;
+  return hard_cases::holding_body_0(hand.safe, coupling_options());
 }
 
 // The one-hand, one-pair world is the single-object cycle: pressing a ball onto a floor, every
@@ -265,10 +261,7 @@ TEST(World, TwoHandsHoldingTwoBodiesFeelActionAndReaction) {
 TEST(World, ACycleAllocatesNothing) {
   const Eigen::Vector3d start(0.0, 0.0, ball_radius + 0.01), end(0.0, 0.0, ball_radius - 0.03);
   ScriptedHand scripted(start, end);
-  Hand hand;
-  hand.device = &scripted.safe;
-  hand.coupling = coupling_options();
-  World world(ball_and_floor(start), {hand}, contact_options());
+  World world(ball_and_floor(start), {holding_body_0(scripted)}, contact_options());
   for (int i = 0; i < 300; ++i) world.cycle(i * 1e-3, (i + 1) * 1e-3, [&] { return i * 1e-3; });
   ASSERT_GT(world.records()[0].contact.statistics.points_in_contact, 0);
   test::allocation_count = 0;
@@ -283,10 +276,7 @@ TEST(World, ACycleAllocatesNothing) {
 TEST(World, ProbeQueriesAtTheGivenGraspsAndStepsNothing) {
   const Eigen::Vector3d start(0.0, 0.0, ball_radius + 0.01);
   ScriptedHand scripted(start, start);
-  Hand hand;
-  hand.device = &scripted.safe;
-  hand.coupling = coupling_options();
-  World world(ball_and_floor(start), {hand}, contact_options());
+  World world(ball_and_floor(start), {holding_body_0(scripted)}, contact_options());
   world.cycle(0.0, 1e-3, [] { return 0.0; });
   const Pose coupled = world.coupling(0).simulation_pose();
 
