@@ -15,8 +15,8 @@
 // thread; with --costs-fifo on --cpu at SCHED_FIFO, so other processes do not preempt it) for
 //   a  a rigid pointshell: bunny00.off, 1.02M points in 6 levels;
 //   b  a reduced deformable one: ChineseDragon-10kv.off, 262k points in 5 levels, r = 15 (its voxel
-//      mesh anchored at its lowest 8%), stepped by ReducedNewmark under the contact's reduced
-//      force every cycle;
+//      mesh anchored at its lowest 8%), stepped by make_reduced_newmark()'s integrator under the
+//      contact's reduced force every cycle;
 //   c  a with the query's time budget (--budget, µs; graceful degradation, §3.10.3).
 // Per cycle (µs: mean, p50, p99, max, over all cycles and over those in contact): the contact
 // query (its own ContactStatistics::microseconds), the integrator step (timed on a twin
@@ -176,7 +176,7 @@ struct SceneInstance {
   std::unique_ptr<kr::PolynomialForces> forces;
   /// The deformable pointshell's integrator (the World steps it), and a twin stepped beside it
   /// under the same reduced forces to time a step; both null for a rigid pointshell.
-  std::unique_ptr<kr::ReducedNewmark> integrator, twin;
+  std::unique_ptr<kr::ReducedIntegrator> integrator, twin;
   kh::Body pointshell;
   /// The deepest penetration (m, ≥ 0) with the dino's grasp frame at `grasp`.
   std::function<double(const kh::Pose& grasp)> depth;
@@ -257,8 +257,8 @@ SceneSpec dragon_scene(const kc::ContactOptions& contact) {
     newmark.newmark.time_step = period;
     newmark.newmark.mass_damping = 1.0;  // a little damping, so contact does not ring for long
     newmark.newmark.stiffness_damping = 1e-3;
-    s.integrator = std::make_unique<kr::ReducedNewmark>(*s.forces, model.mass(), newmark);
-    s.twin = std::make_unique<kr::ReducedNewmark>(*s.forces, model.mass(), newmark);
+    s.integrator = kr::make_reduced_newmark(*s.forces, model.mass(), newmark);
+    s.twin = kr::make_reduced_newmark(*s.forces, model.mass(), newmark);
     s.pointshell.name = "dragon";
     s.pointshell.pose = placement.pointshell;
     s.pointshell.pointshell = &tree;

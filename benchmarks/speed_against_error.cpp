@@ -240,17 +240,17 @@ Row run_reduced(const Scenario& s, const FullRun& full, const DerivativeSamples&
   ReducedNewmarkOptions options;
   options.newmark.time_step = s.time_step;
   options.max_newton_iterations = newton_iterations;
-  ReducedNewmark integrator(forces, reduced.mass(), options);
+  const auto integrator = make_reduced_newmark(forces, reduced.mass(), options);
   const Eigen::VectorXd load = basis.vectors.transpose() * s.load();
   const Eigen::VectorXd none = Eigen::VectorXd::Zero(r);
   std::vector<Eigen::VectorXd> coordinates;
   std::vector<double> seconds;
   for (int step = 0; step < s.steps; ++step) {
     const auto begin = Clock::now();
-    const ReducedStepReport report = integrator.step(s.loaded_at(step) ? load : none);
+    const ReducedStepReport report = integrator->step(s.loaded_at(step) ? load : none);
     seconds.push_back(seconds_since(begin));
     if (report.status == ReducedStepStatus::failed) ++row.failed_steps;
-    coordinates.push_back(integrator.coordinates());
+    coordinates.push_back(integrator->coordinates());
   }
   row.step_us = 1e6 * median(seconds);
   row.full_step_us = 1e6 * full.step_seconds;

@@ -9,8 +9,8 @@
 //      model (§2.6),
 //   2. hangs a weight on the tip, ramped up over 0.4 s so that the tip sinks by about half the
 //      length, holds it and lets go at 0.6 s, so the beam swings freely; the full model
-//      (FullNewmark) and the reduced one (ReducedNewmark) run in lockstep with the same Δt of
-//      2 ms, both iterating Newton to the same tolerance, so that their difference is the
+//      (FullNewmark) and the reduced one (make_reduced_newmark()) run in lockstep with the same Δt
+//      of 2 ms, both iterating Newton to the same tolerance, so that their difference is the
 //      subspace's alone,
 //   3. prints the tips as it goes, then the mean cost of a step in each model, the speed-up and
 //      the errors,
@@ -148,7 +148,7 @@ Run simulate(const Beam& beam, const kr::ReducedModel& model, int steps) {
   reduced_options.max_newton_iterations = newton_iterations;
   reduced_options.tolerance = newton_tolerance;
   kr::PolynomialForces forces(model.energy_polynomial());
-  kr::ReducedNewmark reduced(forces, model.mass(), reduced_options);
+  const auto reduced = kr::make_reduced_newmark(forces, model.mass(), reduced_options);
 
   const Eigen::MatrixXd& U = model.basis().vectors;
   Eigen::VectorXd weight = Eigen::VectorXd::Zero(beam.fem.num_dofs());
@@ -174,7 +174,7 @@ Run simulate(const Beam& beam, const kr::ReducedModel& model, int steps) {
     s.full_us = microseconds_since(begin);
     reduced_force = share * reduced_weight;
     begin = Clock::now();
-    const kr::ReducedStepReport reduced_report = reduced.step(reduced_force);
+    const kr::ReducedStepReport reduced_report = reduced->step(reduced_force);
     s.reduced_us = microseconds_since(begin);
     if (reduced_report.status == kr::ReducedStepStatus::failed) {
       throw kr::SolverError("reduced step " + std::to_string(step) + " failed");
@@ -185,12 +185,12 @@ Run simulate(const Beam& beam, const kr::ReducedModel& model, int steps) {
     run.reduced_unconverged += reduced_report.status != kr::ReducedStepStatus::converged;
 
     const Eigen::VectorXd& u = full.displacement();
-    kr::reconstruct_displacement(U, reduced.coordinates(), u_reduced);
+    kr::reconstruct_displacement(U, reduced->coordinates(), u_reduced);
     const Eigen::VectorXd difference = u_reduced - u;
     s.error = std::sqrt(difference.dot(mass * difference));  // normalized after the run
     largest_norm = std::max(largest_norm, std::sqrt(u.dot(mass * u)));
     s.tip_full = khz::examples::vertex_mean(u, beam.tip);
-    s.tip_reduced = tip_modes * reduced.coordinates();
+    s.tip_reduced = tip_modes * reduced->coordinates();
 
     if (s.tip_full.z() < khz::examples::vertex_mean(deepest.full, beam.tip)(2)) {
       deepest = {"deepest", s.time, u, u_reduced};

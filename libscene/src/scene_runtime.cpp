@@ -36,8 +36,7 @@ haptic::Body make_body(const ObjectDescription& description, const PreparedObjec
     object.forces = std::make_unique<reduced::PolynomialForces>(model.energy_polynomial());
     reduced::ReducedNewmarkOptions options = model.defaults().newmark_options();
     options.acceleration_limit = description.model.integrator.acceleration_limit;
-    object.integrator =
-        std::make_unique<reduced::ReducedNewmark>(*object.forces, model.mass(), options);
+    object.integrator = reduced::make_reduced_newmark(*object.forces, model.mass(), options);
     body.integrator = object.integrator.get();
   }
   if (products.tree != nullptr) body.pointshell = products.tree.get();

@@ -103,15 +103,14 @@ ReducedNewmarkOptions trapezoidal(double time_step, int iterations, double mass_
 }
 
 /// Released at rest from q0 under no load, with the consistent acceleration.
-ReducedNewmark released(ReducedBeam& reduced, const Eigen::VectorXd& q0,
-                        const ReducedNewmarkOptions& options) {
-  ReducedNewmark integrator(reduced.forces, reduced.mass, options);
-  integrator.set_state_in_equilibrium(q0, reduced.zero(), reduced.zero());
+std::unique_ptr<ReducedIntegrator> released(ReducedBeam& reduced, const Eigen::VectorXd& q0,
+                                            const ReducedNewmarkOptions& options) {
+  auto integrator = make_reduced_newmark(reduced.forces, reduced.mass, options);
+  integrator->set_state_in_equilibrium(q0, reduced.zero(), reduced.zero());
   return integrator;
 }
 
-template <typename Integrator>
-double total_energy(const Integrator& integrator) {
+double total_energy(const ReducedIntegrator& integrator) {
   return integrator.kinetic_energy() + integrator.strain_energy();
 }
 
@@ -126,8 +125,7 @@ struct Snapshot {
   bool finite() const { return q.allFinite() && velocity.allFinite() && acceleration.allFinite(); }
 };
 
-template <typename Integrator>
-Snapshot snapshot(const Integrator& integrator) {
+Snapshot snapshot(const ReducedIntegrator& integrator) {
   return {integrator.coordinates(), integrator.velocity(), integrator.acceleration(),
           integrator.time()};
 }
@@ -139,8 +137,9 @@ struct Outcomes {
 /// Takes `steps` steps under `load`, checking after each what every step promises (failed: the
 /// state bit-identical; otherwise: finite), and calls observe(report) after each. Stops at the
 /// first broken promise.
-template <typename Integrator, typename Observe>
-Outcomes run(Integrator& integrator, const Eigen::VectorXd& load, int steps, Observe observe) {
+template <typename Observe>
+Outcomes run(ReducedIntegrator& integrator, const Eigen::VectorXd& load, int steps,
+             Observe observe) {
   Outcomes outcomes;
   for (int step = 0; step < steps; ++step) {
     const Snapshot before = snapshot(integrator);
@@ -180,8 +179,7 @@ struct EnergyBand {
   double initial, low = 1.0, high = 1.0, last = 1.0, largest_rise = -infinity;
 };
 
-template <typename Integrator>
-EnergyBand energy_over(Integrator& integrator, int steps, Outcomes& outcomes) {
+EnergyBand energy_over(ReducedIntegrator& integrator, int steps, Outcomes& outcomes) {
   EnergyBand band(total_energy(integrator));
   outcomes = run(integrator, Eigen::VectorXd::Zero(integrator.dimension()), steps,
                  [&](const ReducedStepReport&) { band.add(total_energy(integrator)); });
@@ -209,16 +207,16 @@ struct HundredTimesTheLimit {
 HundredTimesTheLimit hundred_times_the_explicit_limit(double ratio) {
   ReducedBeam reduced(automatic_basis);
   const double step = 100.0 * reduced_critical_time_step(reduced.forces, reduced.mass);
-  ReducedNewmark integrator(reduced.forces, reduced.mass, trapezoidal(step, 50));
+  const auto integrator = make_reduced_newmark(reduced.forces, reduced.mass, trapezoidal(step, 50));
   HundredTimesTheLimit result;
   Eigen::VectorXd internal(reduced.model.dimension());
   double start_forces = 0.0;  // max(‖R̃(q_i)‖, ‖M̃ q̈_i‖); the run starts at rest at q = 0
   const auto check = [&](const Eigen::VectorXd& load) {
     return [&](const ReducedStepReport& report) {
-      result.peak_bend = std::max(result.peak_bend, reduced.bend(integrator.coordinates()));
-      result.energy.add(total_energy(integrator));
-      reduced.forces.evaluate_forces(integrator.coordinates(), internal);
-      const Eigen::VectorXd inertia = reduced.mass * integrator.acceleration();
+      result.peak_bend = std::max(result.peak_bend, reduced.bend(integrator->coordinates()));
+      result.energy.add(total_energy(*integrator));
+      reduced.forces.evaluate_forces(integrator->coordinates(), internal);
+      const Eigen::VectorXd inertia = reduced.mass * integrator->acceleration();
       if (report.status == ReducedStepStatus::converged) {
         result.converged_imbalance =
             std::max(result.converged_imbalance,
@@ -229,10 +227,10 @@ HundredTimesTheLimit hundred_times_the_explicit_limit(double ratio) {
   };
   const Eigen::VectorXd load = reduced.tip_load(ratio);
   const Eigen::VectorXd zero = reduced.zero();
-  const Outcomes loaded = run(integrator, load, 5, check(load));
-  const Outcomes first = run(integrator, zero, 1, check(zero));
-  result.energy = EnergyBand(total_energy(integrator));  // restarts the band
-  const Outcomes unloaded = run(integrator, zero, 1000, check(zero));
+  const Outcomes loaded = run(*integrator, load, 5, check(load));
+  const Outcomes first = run(*integrator, zero, 1, check(zero));
+  result.energy = EnergyBand(total_energy(*integrator));  // restarts the band
+  const Outcomes unloaded = run(*integrator, zero, 1000, check(zero));
   for (const Outcomes* part : {&loaded, &first, &unloaded}) {
     result.outcomes.converged += part->converged;
     result.outcomes.iteration_limit += part->iteration_limit;
@@ -283,11 +281,11 @@ TEST(ReducedHardCases, CentralDifferencesAboveTheExplicitLimitGrowUntilAStepFail
   for (const double factor : {0.9, 1.5}) {
     ReducedCentralDifferencesOptions options;
     options.time_step = factor * critical;
-    ReducedCentralDifferences integrator(reduced.forces, reduced.mass, options);
+    const auto integrator = make_reduced_central_differences(reduced.forces, reduced.mass, options);
     double largest = 0.0;
     int steps = 0, first_failure = -1;
-    const Outcomes outcomes = run(integrator, load, 2000, [&](const ReducedStepReport& report) {
-      largest = std::max(largest, integrator.coordinates().norm());
+    const Outcomes outcomes = run(*integrator, load, 2000, [&](const ReducedStepReport& report) {
+      largest = std::max(largest, integrator->coordinates().norm());
       if (report.status == ReducedStepStatus::failed && first_failure < 0) first_failure = steps;
       ++steps;
     });
@@ -350,9 +348,9 @@ TEST(ReducedHardCases, Figure2_14TwistPolynomialEqualsProjectionAndReleaseStaysF
   EXPECT_NEAR(reduced.forces.energy(q), projection.energy(q), 1e-10 * projection.energy(q));
 
   for (const int iterations : {20, 1}) {
-    ReducedNewmark integrator = released(reduced, q, trapezoidal(1e-3, iterations));
+    const auto integrator = released(reduced, q, trapezoidal(1e-3, iterations));
     Outcomes outcomes;
-    const EnergyBand energy = energy_over(integrator, 300, outcomes);
+    const EnergyBand energy = energy_over(*integrator, 300, outcomes);
     EXPECT_EQ(outcomes.failed, 0);
     EXPECT_LT(energy.high, 1.001) << iterations << " Newton iterations";
     if (iterations == 20) {
@@ -372,9 +370,9 @@ TEST(ReducedHardCases, ReleasedBendKeepsItsEnergyWithNewtonAndStaysBoundedWithOn
   const Eigen::VectorXd q0 = bent(reduced, 4.0);
   EXPECT_NEAR(reduced.bend(q0), 42.8, 0.5);
   for (const int iterations : {20, 1}) {
-    ReducedNewmark integrator = released(reduced, q0, trapezoidal(1e-3, iterations));
+    const auto integrator = released(reduced, q0, trapezoidal(1e-3, iterations));
     Outcomes outcomes;
-    const EnergyBand energy = energy_over(integrator, 300, outcomes);
+    const EnergyBand energy = energy_over(*integrator, 300, outcomes);
     if (iterations == 20) {
       EXPECT_EQ(outcomes.converged, 300);
       EXPECT_LT(energy.deviation(), 5e-5);
@@ -396,17 +394,18 @@ struct LimitedRelease {
 
 LimitedRelease limited_release(ReducedBeam& reduced, const Eigen::VectorXd& q0) {
   ReducedNewmarkOptions options = trapezoidal(1e-3, 20);
-  options.acceleration_limit = 0.1 * released(reduced, q0, options).acceleration().norm();
-  ReducedNewmark integrator = released(reduced, q0, options);
+  options.acceleration_limit = 0.1 * released(reduced, q0, options)->acceleration().norm();
+  const auto integrator = released(reduced, q0, options);
   LimitedRelease result;
-  result.energy = EnergyBand(total_energy(integrator));
+  result.energy = EnergyBand(total_energy(*integrator));
   bool limiting = true;
-  result.outcomes = run(integrator, reduced.zero(), 300, [&](const ReducedStepReport& report) {
+  result.outcomes = run(*integrator, reduced.zero(), 300, [&](const ReducedStepReport& report) {
     limiting = limiting && report.acceleration_limited;
     result.leading_limited_steps += limiting ? 1 : 0;
-    result.largest_acceleration = std::max(
-        result.largest_acceleration, integrator.acceleration().norm() / options.acceleration_limit);
-    result.energy.add(total_energy(integrator));
+    result.largest_acceleration =
+        std::max(result.largest_acceleration,
+                 integrator->acceleration().norm() / options.acceleration_limit);
+    result.energy.add(total_energy(*integrator));
   });
   return result;
 }
@@ -426,10 +425,10 @@ TEST(ReducedHardCases, AccelerationLimitChopsTheReleaseOfABendWithoutAddingEnerg
 
 // The same limit on the release of the 215° twist must not add energy either. Within a limited
 // step the integrator moves as if the mass were M̃/s, so the true energy changes by (1 − s)·ΔE:
-// it grew whenever the strain energy rose during a limited step, before ReducedNewmark took that
-// share out of the kinetic energy (measured then: E/E₀ up to 3.0 within these 300 steps, 42
-// over 1000). Now the total never exceeds its start (measured maximum 1.0, 4.7% left after
-// 0.3 s).
+// it grew whenever the strain energy rose during a limited step, before the implicit integrator
+// took that share out of the kinetic energy (measured then: E/E₀ up to 3.0 within these 300 steps,
+// 42 over 1000). Now the total never exceeds its start (measured maximum 1.0, 4.7% left after 0.3
+// s).
 TEST(ReducedHardCases, AccelerationLimitMustNotPumpEnergyIntoAReleasedTwist) {
   ReducedBeam reduced(twist_basis);
   const test::Path path = twisted(reduced);
@@ -469,10 +468,11 @@ TEST(ReducedHardCases, TwoModeBasisLocksUnderAHundredTimesTheFortyFiveDegreeLoad
   // Suddenly applied from rest, the stiffening model overshoots its static solution by less than
   // the linear factor 2 (measured 1.59, semi-implicit and converged).
   for (const int iterations : {1, 20}) {
-    ReducedNewmark integrator(reduced.forces, reduced.mass, trapezoidal(1e-3, iterations));
+    const auto integrator =
+        make_reduced_newmark(reduced.forces, reduced.mass, trapezoidal(1e-3, iterations));
     double largest = 0.0;
-    run(integrator, reduced_load, 1000, [&](const ReducedStepReport&) {
-      largest = std::max(largest, integrator.coordinates().norm());
+    run(*integrator, reduced_load, 1000, [&](const ReducedStepReport&) {
+      largest = std::max(largest, integrator->coordinates().norm());
     });
     EXPECT_LT(largest, 2.0 * solution.coordinates.norm());
   }
@@ -480,8 +480,7 @@ TEST(ReducedHardCases, TwoModeBasisLocksUnderAHundredTimesTheFortyFiveDegreeLoad
 
 /// A NaN or infinite external force fails the step and leaves the state bit-identical; the next
 /// valid step proceeds.
-template <typename Integrator>
-void expect_non_finite_loads_fail(Integrator& integrator, const Eigen::VectorXd& load) {
+void expect_non_finite_loads_fail(ReducedIntegrator& integrator, const Eigen::VectorXd& load) {
   for (const double bad : {std::numeric_limits<double>::quiet_NaN(), infinity, -infinity}) {
     Eigen::VectorXd bad_load = load;
     bad_load[bad_load.size() - 1] = bad;
@@ -496,16 +495,18 @@ void expect_non_finite_loads_fail(Integrator& integrator, const Eigen::VectorXd&
 TEST(ReducedHardCases, NonFiniteLoadOnTheOverloadedTwoModeBeamFailsAndKeepsTheState) {
   ReducedBeam reduced(two_lowest_modes);
   const Eigen::VectorXd load = reduced.reduce(test::dead_tip_bend(reduced.beam, 400.0).dead);
-  ReducedNewmark implicit_integrator(reduced.forces, reduced.mass, trapezoidal(1e-3, 1));
+  const auto implicit_integrator =
+      make_reduced_newmark(reduced.forces, reduced.mass, trapezoidal(1e-3, 1));
   ReducedCentralDifferencesOptions options;
   options.time_step = 1e-4;
-  ReducedCentralDifferences explicit_integrator(reduced.forces, reduced.mass, options);
+  const auto explicit_integrator =
+      make_reduced_central_differences(reduced.forces, reduced.mass, options);
   // Strained and moving first.
   const auto ignore = [](const ReducedStepReport&) {};
-  ASSERT_EQ(run(implicit_integrator, load, 50, ignore).failed, 0);
-  ASSERT_EQ(run(explicit_integrator, load, 500, ignore).failed, 0);
-  expect_non_finite_loads_fail(implicit_integrator, load);
-  expect_non_finite_loads_fail(explicit_integrator, load);
+  ASSERT_EQ(run(*implicit_integrator, load, 50, ignore).failed, 0);
+  ASSERT_EQ(run(*explicit_integrator, load, 500, ignore).failed, 0);
+  expect_non_finite_loads_fail(*implicit_integrator, load);
+  expect_non_finite_loads_fail(*explicit_integrator, load);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -516,12 +517,12 @@ TEST(ReducedHardCases, NonFiniteLoadOnTheOverloadedTwoModeBeamFailsAndKeepsTheSt
 // exactly conserved (the model is nonlinear) but bounded: measured largest deviation 6.8e-4.
 TEST(ReducedHardCases, UndampedTrapezoidalEnergyDriftStaysBoundedOverTwoThousandSteps) {
   ReducedBeam reduced(automatic_basis);
-  ReducedNewmark integrator = released(reduced, bent(reduced, 4.0), trapezoidal(0.01, 20));
+  const auto integrator = released(reduced, bent(reduced, 4.0), trapezoidal(0.01, 20));
   double least_strain = infinity;
-  EnergyBand energy(total_energy(integrator));
-  const Outcomes outcomes = run(integrator, reduced.zero(), 2000, [&](const ReducedStepReport&) {
-    energy.add(total_energy(integrator));
-    least_strain = std::min(least_strain, integrator.strain_energy() / energy.initial);
+  EnergyBand energy(total_energy(*integrator));
+  const Outcomes outcomes = run(*integrator, reduced.zero(), 2000, [&](const ReducedStepReport&) {
+    energy.add(total_energy(*integrator));
+    least_strain = std::min(least_strain, integrator->strain_energy() / energy.initial);
   });
   EXPECT_EQ(outcomes.converged, 2000);
   EXPECT_LT(least_strain, 0.01);  // it swings through the rest shape (measured 1.1e-4)
@@ -533,12 +534,11 @@ TEST(ReducedHardCases, UndampedTrapezoidalEnergyDriftStaysBoundedOverTwoThousand
 // 4.6 s, i.e. step 460, and 3.5e-5 left after 20 s).
 TEST(ReducedHardCases, RayleighDampedEnergyDecaysAtEveryStep) {
   ReducedBeam reduced(automatic_basis);
-  ReducedNewmark integrator =
-      released(reduced, bent(reduced, 4.0), trapezoidal(0.01, 20, 0.5, 1e-3));
-  EnergyBand energy(total_energy(integrator));
+  const auto integrator = released(reduced, bent(reduced, 4.0), trapezoidal(0.01, 20, 0.5, 1e-3));
+  EnergyBand energy(total_energy(*integrator));
   int steps = 0, steps_to_a_tenth = -1;
-  const Outcomes outcomes = run(integrator, reduced.zero(), 2000, [&](const ReducedStepReport&) {
-    energy.add(total_energy(integrator));
+  const Outcomes outcomes = run(*integrator, reduced.zero(), 2000, [&](const ReducedStepReport&) {
+    energy.add(total_energy(*integrator));
     ++steps;
     if (steps_to_a_tenth < 0 && energy.last < 0.1) steps_to_a_tenth = steps;
   });

@@ -31,10 +31,9 @@ std::vector<std::unique_ptr<ReducedIntegrator>> both_schemes(Chains& chains) {
   explicit_options.time_step = 1e-3;  // below the critical step at these deflections
   explicit_options.mass_damping = 0.5;
   std::vector<std::unique_ptr<ReducedIntegrator>> integrators;
-  integrators.push_back(
-      std::make_unique<ReducedNewmark>(chains.implicit_chain, Eigen::MatrixXd::Identity(3, 3),
-                                       test::trapezoidal_options(1e-3, 3, 1e-12, 0.5)));
-  integrators.push_back(std::make_unique<ReducedCentralDifferences>(
+  integrators.push_back(make_reduced_newmark(chains.implicit_chain, Eigen::MatrixXd::Identity(3, 3),
+                                             test::trapezoidal_options(1e-3, 3, 1e-12, 0.5)));
+  integrators.push_back(make_reduced_central_differences(
       chains.explicit_chain, Eigen::MatrixXd::Identity(3, 3), explicit_options));
   return integrators;
 }

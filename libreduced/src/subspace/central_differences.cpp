@@ -4,6 +4,7 @@
 
 #include "subspace/dense_symmetric_solve.hpp"
 #include "subspace/reduced_state.hpp"
+#include "subspace/scheme_integrator.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -18,12 +19,20 @@ void ReducedCentralDifferencesOptions::validate() const {
   NewmarkParameters{time_step, 0.0, 0.5, mass_damping, stiffness_damping}.validate();
 }
 
-struct ReducedCentralDifferences::Data : detail::StepWorkspace {
-  Data(detail::ReducedState& shared, const ReducedCentralDifferencesOptions& opts)
+namespace {
+
+/// The central-difference scheme make_reduced_central_differences() documents: its scratch and
+/// its step.
+struct CentralDifferenceScheme : detail::StepWorkspace {
+  CentralDifferenceScheme(detail::ReducedState& shared,
+                          const ReducedCentralDifferencesOptions& opts)
       : StepWorkspace(shared.q.size()),
         options(opts),
         state(shared),
         predicted_velocity(shared.q.size()) {}
+
+  /// One step (ReducedIntegrator::advance() has the contract).
+  ReducedStepReport advance(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept;
 
   /// acceleration = f̃ − R̃ − αM̃ q̇_pred: the net force before stiffness damping.
   void net_force(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
@@ -33,69 +42,62 @@ struct ReducedCentralDifferences::Data : detail::StepWorkspace {
 
   // The workspace's system is M̃ + ½Δt C̃ and its stiffness K̃(q_{n+1}), both used when β > 0.
   ReducedCentralDifferencesOptions options;
-  detail::ReducedState& state;  // the ReducedIntegrator's (its heap object: moves keep it valid)
+  detail::ReducedState& state;         // the ReducedIntegrator's
   Eigen::VectorXd predicted_velocity;  // q̇_n + ½Δt q̈_n
 };
 
-ReducedCentralDifferences::ReducedCentralDifferences(
-    ReducedForceModel& forces, const Eigen::MatrixXd& mass,
-    const ReducedCentralDifferencesOptions& options)
-    : ReducedIntegrator(forces, mass, "ReducedCentralDifferences",
-                        detail::validated(options).time_step, options.mass_damping,
-                        options.stiffness_damping),
-      m_data(std::make_unique<Data>(shared_state(), options)) {}
-ReducedCentralDifferences::~ReducedCentralDifferences() = default;
-ReducedCentralDifferences::ReducedCentralDifferences(ReducedCentralDifferences&&) noexcept =
-    default;
-ReducedCentralDifferences& ReducedCentralDifferences::operator=(
-    ReducedCentralDifferences&&) noexcept = default;
-
-ReducedStepReport ReducedCentralDifferences::advance(
+ReducedStepReport CentralDifferenceScheme::advance(
     const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
-  Data& d = *m_data;
-  detail::ReducedState& s = d.state;
+  detail::ReducedState& s = state;
   ReducedStepReport report;
 
-  const double h = d.options.time_step;
-  const double alpha = d.options.mass_damping;
-  const double beta = d.options.stiffness_damping;
+  const double h = options.time_step;
+  const double alpha = options.mass_damping;
+  const double beta = options.stiffness_damping;
   // Newmark with β̃ = 0, γ̃ = ½ (thesis §2.9.1): the displacement is explicit.
-  d.next = s.q + h * s.velocity + (0.5 * h * h) * s.acceleration;
-  d.predicted_velocity = s.velocity + (0.5 * h) * s.acceleration;
+  next = s.q + h * s.velocity + (0.5 * h * h) * s.acceleration;
+  predicted_velocity = s.velocity + (0.5 * h) * s.acceleration;
   // Equation of motion at n+1 with q̇_{n+1} = predicted + ½Δt q̈_{n+1}:
   // (M̃ + ½Δt C̃) q̈_{n+1} = f̃ − R̃ − C̃ · predicted.
   if (beta > 0.0) {
-    s.forces.evaluate(d.next, d.forces, d.stiffness);
-    if (!d.forces.allFinite() || !d.stiffness.allFinite()) return report;
-    d.net_force(external_force);
-    d.acceleration.noalias() -= beta * (d.stiffness * d.predicted_velocity);
-    d.system = (0.5 * h * beta) * d.stiffness;
-    s.add_scaled_mass(1.0 + 0.5 * h * alpha, d.system);
-    const detail::DenseSolve solve = d.solver.solve_in_place(d.system, d.acceleration);
+    s.forces.evaluate(next, forces, stiffness);
+    if (!forces.allFinite() || !stiffness.allFinite()) return report;
+    net_force(external_force);
+    acceleration.noalias() -= beta * (stiffness * predicted_velocity);
+    system = (0.5 * h * beta) * stiffness;
+    s.add_scaled_mass(1.0 + 0.5 * h * alpha, system);
+    const detail::DenseSolve solve = solver.solve_in_place(system, acceleration);
     if (solve == detail::DenseSolve::failed) return report;
     report.fallback_solve = solve == detail::DenseSolve::eigen_fallback;
   } else {
-    s.forces.evaluate_forces(d.next, d.forces);
-    if (!d.forces.allFinite()) return report;
+    s.forces.evaluate_forces(next, forces);
+    if (!forces.allFinite()) return report;
     // C̃ = αM̃: the system matrix (1 + ½Δtα) M̃ reuses the mass factor.
-    d.net_force(external_force);
-    s.solve_mass_in_place(d.acceleration);
-    d.acceleration /= 1.0 + 0.5 * h * alpha;
+    net_force(external_force);
+    s.solve_mass_in_place(acceleration);
+    acceleration /= 1.0 + 0.5 * h * alpha;
   }
-  d.velocity = d.predicted_velocity + (0.5 * h) * d.acceleration;
-  if (!d.next.allFinite() || !d.velocity.allFinite() || !d.acceleration.allFinite()) {
+  velocity = predicted_velocity + (0.5 * h) * acceleration;
+  if (!next.allFinite() || !velocity.allFinite() || !acceleration.allFinite()) {
     return report;
   }
-  s.q = d.next;
-  s.velocity = d.velocity;
-  s.acceleration = d.acceleration;
+  s.q = next;
+  s.velocity = velocity;
+  s.acceleration = acceleration;
   s.steps += 1;
   report.status = ReducedStepStatus::converged;
   return report;
 }
 
-const ReducedCentralDifferencesOptions& ReducedCentralDifferences::options() const noexcept {
-  return m_data->options;
+}  // namespace
+
+std::unique_ptr<ReducedIntegrator> make_reduced_central_differences(
+    ReducedForceModel& forces, const Eigen::MatrixXd& mass,
+    const ReducedCentralDifferencesOptions& options) {
+  options.validate();
+  return std::make_unique<detail::SchemeIntegrator<CentralDifferenceScheme>>(
+      forces, mass, "ReducedCentralDifferences", options.time_step, options.mass_damping,
+      options.stiffness_damping, options);
 }
 
 double reduced_critical_time_step(ReducedForceModel& forces, const Eigen::MatrixXd& mass,

@@ -15,8 +15,6 @@ ReducedIntegrator::ReducedIntegrator(ReducedForceModel& forces, const Eigen::Mat
                                                      mass_damping, stiffness_damping)) {}
 
 ReducedIntegrator::~ReducedIntegrator() = default;
-ReducedIntegrator::ReducedIntegrator(ReducedIntegrator&&) noexcept = default;
-ReducedIntegrator& ReducedIntegrator::operator=(ReducedIntegrator&&) noexcept = default;
 
 ReducedStepReport ReducedIntegrator::step(
     const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {

@@ -1,5 +1,5 @@
 #pragma once
-// The state, mass and set-up checks that ReducedNewmark and ReducedCentralDifferences share.
+// The state, mass and set-up checks that the implicit and explicit reduced integrators share.
 
 #include <khz/reduced/subspace/reduced_forces.hpp>
 
@@ -64,14 +64,6 @@ struct ReducedState {
   /// Factors, stores and classifies a new mass. @throws Error starting with `context`.
   void assign_mass(const Eigen::MatrixXd& reduced_mass, const std::string& context);
 };
-
-/// `options` after options.validate() (which throws Error naming the bad option): lets a
-/// scheme's constructor check its options before the ReducedIntegrator base is built from them.
-template <typename Options>
-const Options& validated(const Options& options) {
-  options.validate();
-  return options;
-}
 
 /// The scratch every step of either scheme needs, sized once for r coordinates so that a step
 /// allocates nothing: R̃ and K̃ at the new q, the dense system and its solver, and the new q, q̇,

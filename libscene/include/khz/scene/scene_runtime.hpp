@@ -19,8 +19,8 @@
 namespace khz::scene {
 
 /// Everything a prepared scene needs to run, built once before the loop starts: per object its
-/// surface mesh (body frame), and for a reduced one its integrator (reduced::ReducedNewmark with
-/// the model's defaults) and deformed-field state; per hand ("haptic" entry) its device behind
+/// surface mesh (body frame), and for a reduced one its integrator (reduced::make_reduced_newmark()
+/// with the model's defaults) and deformed-field state; per hand ("haptic" entry) its device behind
 /// a haptic::SafeDevice with the entry's safety and mapping; and the haptic::World of them all
 /// (the scene's contact and coupling settings, each hand's grasp point and role). A cycle is
 /// world().cycle(); the World's body i is the scene's object i and its hand h the scene's

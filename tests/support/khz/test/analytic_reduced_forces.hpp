@@ -12,6 +12,9 @@
 
 namespace khz::test {
 
+/// M̃ = I (r×r): the reduced mass of r unit masses, the mass the models below are tested with.
+inline Eigen::MatrixXd unit_mass(Eigen::Index r) { return Eigen::MatrixXd::Identity(r, r); }
+
 /// A chain of r equal springs: a wall, then r coordinates (e.g. unit masses with M̃ = I), spring
 /// i joining q_{i−1} and q_i (q_0 ≡ 0 is the wall). Spring energy ½k d² + ¼κ d⁴ at elongation
 /// d = q_i − q_{i−1}: κ > 0 stiffens, κ < 0 softens (the tension k d + κ d³ then peaks at

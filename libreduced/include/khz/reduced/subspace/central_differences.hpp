@@ -11,7 +11,7 @@
 
 namespace khz::reduced {
 
-/// Options of ReducedCentralDifferences.
+/// Options of make_reduced_central_differences().
 struct KHZ_REDUCED_API ReducedCentralDifferencesOptions {
   /// Δt (s), > 0. Stable near q only below reduced_critical_time_step() (for β = 0).
   double time_step = 1e-4;
@@ -30,38 +30,23 @@ struct KHZ_REDUCED_API ReducedCentralDifferencesOptions {
 /// The damping makes the update implicit in the velocity, hence the solve. Without stiffness
 /// damping (β = 0) the matrix is (1 + ½Δtα) M̃, whose Cholesky factor is prepared once, and the
 /// step evaluates R̃ only; with β > 0 it evaluates K̃ too and factors M̃ + ½Δt C̃ each step
-/// (falling back to the pseudo-inverse through the eigendecomposition, like ReducedNewmark, if
-/// a negative K̃ makes it indefinite).
+/// (falling back to the pseudo-inverse through the eigendecomposition, like
+/// make_reduced_newmark(), if a negative K̃ makes it indefinite). A successful step's status is
+/// converged (iterations and residual_norm 0); an unstable step size ends as failed once the
+/// growing state overflows.
 ///
 /// As §2.9.1 explains, reduced models with modal derivatives have stiff high-frequency modes,
-/// so this integrator needs far smaller steps than ReducedNewmark; it is the reference for the
-/// explicit-versus-implicit comparison. step() allocates nothing and never throws. Not
-/// thread-safe.
-class KHZ_REDUCED_API ReducedCentralDifferences final : public ReducedIntegrator {
- public:
-  /// @param forces the reduced force model (r coordinates); must outlive the integrator.
-  /// @param mass   M̃, r×r symmetric positive definite.
-  /// State starts at rest at q = 0, time 0 (set_state_in_equilibrium() gives the consistent q̈
-  /// this scheme needs when starting elsewhere).
-  /// @throws Error for invalid options or mass (naming the problem).
-  ReducedCentralDifferences(ReducedForceModel& forces, const Eigen::MatrixXd& mass,
-                            const ReducedCentralDifferencesOptions& options = {});
-  ~ReducedCentralDifferences() override;
-  ReducedCentralDifferences(ReducedCentralDifferences&&) noexcept;
-  ReducedCentralDifferences& operator=(ReducedCentralDifferences&&) noexcept;
-
-  const ReducedCentralDifferencesOptions& options() const noexcept;
-
- private:
-  /// One explicit step (ReducedIntegrator::step() has the contract). Status converged on
-  /// success (iterations and residual_norm are 0); an unstable step size ends as failed once the
-  /// growing state overflows.
-  ReducedStepReport advance(
-      const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept override;
-
-  struct Data;
-  std::unique_ptr<Data> m_data;
-};
+/// so this integrator needs far smaller steps than the implicit one; it is the reference for the
+/// explicit-versus-implicit comparison. It is used through ReducedIntegrator, whose error
+/// messages start "ReducedCentralDifferences".
+/// @param forces the reduced force model (r coordinates); must outlive the integrator.
+/// @param mass   M̃, r×r symmetric positive definite.
+/// @returns an integrator at rest at q = 0, time 0 (set_state_in_equilibrium() gives the
+///          consistent q̈ this scheme needs when starting elsewhere).
+/// @throws Error for invalid options or mass (naming the problem).
+KHZ_REDUCED_API std::unique_ptr<ReducedIntegrator> make_reduced_central_differences(
+    ReducedForceModel& forces, const Eigen::MatrixXd& mass,
+    const ReducedCentralDifferencesOptions& options = {});
 
 /// The central-difference stability limit Δt_crit = 2 / ω_max of the undamped system linearized
 /// at q, where ω_max² is the largest eigenvalue of K̃(q) x = ω² M̃ x (thesis §2.9.1). The thesis

@@ -27,18 +27,17 @@ struct ReducedIntegratorState {
 
 /// Time stepping of the reduced equations of motion M̃ q̈ + C̃(q) q̇ + R̃(q) = f̃ (thesis eq.
 /// 2.21) with Rayleigh damping C̃ = αM̃ + βK̃(q), over a ReducedForceModel with r coordinates.
-/// ReducedNewmark (implicit, §2.9) and ReducedCentralDifferences (explicit, §2.9.1) implement
-/// step(); the state, the mass and their checked setters are common and live here.
+/// make_reduced_newmark() (implicit, §2.9) and make_reduced_central_differences() (explicit,
+/// §2.9.1) make one; the state, the mass and their checked setters are common and live here.
 ///
 /// M̃ is any r×r symmetric positive definite matrix (the identity for a mass-orthonormal basis,
 /// which the integrators detect and exploit). step() never throws and never allocates; the other
 /// members may do both where they say so. Not thread-safe: an integrator drives a force model
-/// with workspaces. Movable, not copyable.
+/// with workspaces. Held through the std::unique_ptr the factories return: neither copyable nor
+/// movable itself.
 class KHZ_REDUCED_API ReducedIntegrator {
  public:
   virtual ~ReducedIntegrator();
-  ReducedIntegrator(ReducedIntegrator&&) noexcept;
-  ReducedIntegrator& operator=(ReducedIntegrator&&) noexcept;
   ReducedIntegrator(const ReducedIntegrator&) = delete;
   ReducedIntegrator& operator=(const ReducedIntegrator&) = delete;
 

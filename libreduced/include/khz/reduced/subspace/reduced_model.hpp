@@ -42,7 +42,7 @@ struct KHZ_REDUCED_API ReducedIntegratorDefaults {
   int max_newton_iterations = 1;   ///< j_max (thesis §2.9: one, semi-implicit).
   double newton_tolerance = 1e-9;  ///< Relative residual at which Newton stops early.
 
-  /// These settings as ReducedNewmark options (no acceleration limit): what a model's user
+  /// These settings as make_reduced_newmark() options (no acceleration limit): what a model's user
   /// passes to its integrator.
   ReducedNewmarkOptions newmark_options() const;
 };

@@ -13,7 +13,7 @@
 
 namespace khz::reduced {
 
-/// Options of ReducedNewmark.
+/// Options of make_reduced_newmark().
 struct KHZ_REDUCED_API ReducedNewmarkOptions {
   NewmarkParameters newmark;  ///< Δt, β̃ (> 0: implicit), γ̃, Rayleigh α, β.
   /// j_max, Newton iterations per step. The thesis default 1 is the semi-implicit integrator:
@@ -57,37 +57,22 @@ struct KHZ_REDUCED_API ReducedNewmarkOptions {
 /// M̃(α1 Δq − α2 q̇_i − α3 q̈_i) + C̃(α4 Δq + α5 q̇_i + α6 q̈_i) + R̃ − f̃ (Δq = q_{i+1} − q_i),
 /// stopping when the residual meets the tolerance, else solving A δ = −residual and updating
 /// q_{i+1} += δ; finally q̇ and q̈ follow from Δq (α1…α6 of NewmarkConstants). Like the thesis,
-/// A omits the derivative of the damping force's βK̃(q) with respect to q.
+/// A omits the derivative of the damping force's βK̃(q) with respect to q. A step's status is
+/// iteration_limit when max_newton_iterations ran without meeting the tolerance.
 ///
 /// The dense r×r system is solved by Cholesky; when A is not positive definite (a tangent
 /// stiffness negative enough to beat the inertia term α1 M̃), by the symmetric
 /// eigendecomposition with the true eigenvalues, eigenvalues with |λ| ≤ 1e-12·max|λ| treated as
 /// zero (pseudo-inverse; ReducedStepReport::fallback_solve tells).
 ///
-/// State, mass and their setters are ReducedIntegrator's. step() allocates nothing and never
-/// throws. Not thread-safe (it drives a force model with workspaces).
-class KHZ_REDUCED_API ReducedNewmark final : public ReducedIntegrator {
- public:
-  /// @param forces the reduced force model (r coordinates); must outlive the integrator.
-  /// @param mass   M̃, r×r symmetric positive definite.
-  /// State starts at rest at q = 0, time 0.
-  /// @throws Error for invalid options or mass (naming the problem).
-  ReducedNewmark(ReducedForceModel& forces, const Eigen::MatrixXd& mass,
-                 const ReducedNewmarkOptions& options = {});
-  ~ReducedNewmark() override;
-  ReducedNewmark(ReducedNewmark&&) noexcept;
-  ReducedNewmark& operator=(ReducedNewmark&&) noexcept;
-
-  const ReducedNewmarkOptions& options() const noexcept;
-
- private:
-  /// One step as the class comment describes (ReducedIntegrator::step() has the contract).
-  /// Status iteration_limit when max_newton_iterations ran without meeting the tolerance.
-  ReducedStepReport advance(
-      const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept override;
-
-  struct Data;
-  std::unique_ptr<Data> m_data;
-};
+/// The integrator is used through ReducedIntegrator, which has the state, the mass, step()'s
+/// contract and the error messages' prefix "ReducedNewmark".
+/// @param forces the reduced force model (r coordinates); must outlive the integrator.
+/// @param mass   M̃, r×r symmetric positive definite.
+/// @returns an integrator at rest at q = 0, time 0.
+/// @throws Error for invalid options or mass (naming the problem).
+KHZ_REDUCED_API std::unique_ptr<ReducedIntegrator> make_reduced_newmark(
+    ReducedForceModel& forces, const Eigen::MatrixXd& mass,
+    const ReducedNewmarkOptions& options = {});
 
 }  // namespace khz::reduced

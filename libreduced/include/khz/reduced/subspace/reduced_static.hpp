@@ -43,7 +43,8 @@ struct ReducedStaticSolution {
 /// Solves R̃(q) = f̃ by Newton–Raphson with load stepping and line search, like solve_static()
 /// for the full model. K̃(q) is factored densely by Cholesky; where it is not positive definite
 /// (past a buckling or softening limit point) the Newton step uses the pseudo-inverse from its
-/// eigendecomposition (|λ| ≤ 1e-12·max|λ| counted as zero), as ReducedNewmark does.
+/// eigendecomposition (|λ| ≤ 1e-12·max|λ| counted as zero), as make_reduced_newmark()'s integrator
+/// does.
 /// @param external_force f̃ (r entries, Uᵀ f for a full force f).
 /// @throws Error for invalid options, sizes or non-finite input; SolverError, naming the load
 ///         step, iteration and residual, if Newton does not converge (e.g. a load above what a

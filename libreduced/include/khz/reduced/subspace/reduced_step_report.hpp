@@ -17,7 +17,8 @@ enum class ReducedStepStatus {
   failed,
 };
 
-/// Outcome of ReducedIntegrator::step() (ReducedNewmark, ReducedCentralDifferences).
+/// Outcome of ReducedIntegrator::step() (make_reduced_newmark(),
+/// make_reduced_central_differences()).
 struct ReducedStepReport {
   ReducedStepStatus status = ReducedStepStatus::failed;
   /// Linear solves performed (Newton iterations; 0 for explicit steps or when the residual of
