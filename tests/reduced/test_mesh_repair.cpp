@@ -319,6 +319,25 @@ TEST(OrientConsistently, OrientsShuffledBlobbyOutward) {
   EXPECT_NEAR(report.signed_volume, 0.050082476255294411, 1e-12);
 }
 
+TEST(RepairMesh, CountsTheVerticesOrientingCopiesAfterWelding) {
+  // Welding closes pinches between this mesh's holes that orienting then splits again: the
+  // summary must say so, since the output keeps duplicate positions although welding ran.
+  TriangleMesh oriented = read_cgal_mesh("elephant-with-holes.off");
+  TriangleMesh welded_only = oriented;
+  RepairOptions options;
+  options.weld_tolerance = 1e-6;
+  const RepairSummary summary = repair_mesh(oriented, options);
+  EXPECT_GT(summary.vertices_welded, 0);
+  EXPECT_GT(summary.vertices_split, 0);
+  EXPECT_EQ(analyze_mesh(oriented).num_duplicate_vertices, summary.vertices_split);
+
+  options.orient = false;
+  const RepairSummary kept = repair_mesh(welded_only, options);
+  EXPECT_EQ(kept.vertices_welded, summary.vertices_welded);
+  EXPECT_EQ(kept.vertices_split, 0);
+  EXPECT_EQ(analyze_mesh(welded_only).num_duplicate_vertices, 0);
+}
+
 TEST(OrientConsistently, SplitsPinchedVerticesOfRealMesh) {
   // CGAL's orient_polygon_soup duplicates 3 points at this mesh's 2 pinched vertices.
   TriangleMesh mesh = read_cgal_mesh("polygon_mesh.off");

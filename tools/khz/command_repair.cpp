@@ -37,8 +37,13 @@ void add_repair_command(CLI::App& app) {
               << summary.triangles_removed << " triangles"
               << (args->options.orient ? (summary.oriented ? ", oriented" : ", NOT orientable")
                                        : "")
-              << "\nwrote " << args->output << "\n"
-              << reduced::analyze_mesh(mesh);
+              << "\n";
+    if (summary.vertices_split > 0) {
+      std::cout << "orienting copied " << summary.vertices_split
+                << " vertices at non-manifold points (they keep their positions, so the output "
+                   "has duplicate positions; --keep-orientation keeps the mesh welded)\n";
+    }
+    std::cout << "wrote " << args->output << "\n" << reduced::analyze_mesh(mesh);
   });
 }
 

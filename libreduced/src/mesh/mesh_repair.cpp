@@ -237,7 +237,11 @@ RepairSummary repair_mesh(TriangleMesh& mesh, const RepairOptions& options) {
     summary.vertices_welded = weld_vertices(mesh, options.weld_tolerance);
   }
   if (options.remove_degenerate) summary.triangles_removed = remove_degenerate_triangles(mesh);
-  if (options.orient) summary.oriented = orient_consistently(mesh);
+  if (options.orient) {
+    const Eigen::Index before = mesh.num_vertices();
+    summary.oriented = orient_consistently(mesh);
+    summary.vertices_split = mesh.num_vertices() - before;
+  }
   return summary;
 }
 

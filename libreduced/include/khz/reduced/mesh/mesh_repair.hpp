@@ -46,8 +46,13 @@ struct RepairOptions {
 
 /// What repair_mesh() changed.
 struct RepairSummary {
-  Eigen::Index vertices_welded = 0;
-  Eigen::Index triangles_removed = 0;
+  Eigen::Index vertices_welded = 0;    ///< Vertices weld_vertices() removed.
+  Eigen::Index triangles_removed = 0;  ///< Triangles remove_degenerate_triangles() removed.
+  /// Copies orient_consistently() appended at non-manifold vertices and edges so that each
+  /// component can be oriented. Welding the boundaries of holes or cracks together often makes
+  /// such vertices, and orienting then splits them again at the same positions: a mesh that
+  /// must stay welded is repaired with options.orient = false.
+  Eigen::Index vertices_split = 0;
   bool oriented = false;  ///< Result consistently oriented (only set when options.orient).
 };
 
