@@ -161,6 +161,10 @@ TEST(Stl, RejectsEveryMalformedCorpusFile) {
       {"binary_size_mismatch.stl",
        "binary_size_mismatch.stl: byte 80: not ASCII STL (no 'solid' at the start) and not binary "
        "STL: the header declares 3 triangles, so the file should have 234 bytes, but it has 184"},
+      {"binary_solid_header_size_mismatch.stl",
+       "binary_solid_header_size_mismatch.stl: byte 80: binary STL (its header starts with "
+       "'solid', but the file holds non-text bytes) of the wrong size: the header declares 3 "
+       "triangles, so the file should have 234 bytes, but it has 184"},
       {"hostile_count.stl",
        "hostile_count.stl: byte 80: not ASCII STL (no 'solid' at the start) and not binary STL: "
        "the header declares 2000000000 triangles, so the file should have 100000000084 bytes, "

@@ -91,6 +91,17 @@ bool starts_with_solid(std::string_view data) {
   return start != std::string_view::npos && equals_ignoring_case(data.substr(start, 5), "solid");
 }
 
+/// Whether the start of the file holds a byte no ASCII STL holds (NUL or a control character
+/// other than white space): binary data, whatever its header says.
+bool holds_binary_bytes(std::string_view data) {
+  const std::string_view start = data.substr(0, 1024);
+  return std::any_of(start.begin(), start.end(), [](char c) {
+    const auto byte = static_cast<unsigned char>(c);
+    return byte < 32 && byte != '\t' && byte != '\n' && byte != '\v' && byte != '\f' &&
+           byte != '\r';
+  });
+}
+
 /// Next token must be `keyword` (lower case; matched case-insensitively).
 void expect_keyword(TextScanner& scanner, std::string_view keyword) {
   const std::string_view token = scanner.next_token();
@@ -200,12 +211,20 @@ TriangleMesh parse_stl(std::string_view data, const std::string& source) {
     if (binary_size == data.size()) {
       return parse_binary(data, source, static_cast<std::int64_t>(count));
     }
+    const std::string size_mismatch =
+        "the header declares " + std::to_string(count) + " triangles, so the file should have " +
+        std::to_string(binary_size) + " bytes, but it has " + std::to_string(data.size());
     if (!starts_with_solid(data)) {
       throw ParseError::at_byte(
           source, header_bytes,
-          "not ASCII STL (no 'solid' at the start) and not binary STL: the header declares " +
-              std::to_string(count) + " triangles, so the file should have " +
-              std::to_string(binary_size) + " bytes, but it has " + std::to_string(data.size()));
+          "not ASCII STL (no 'solid' at the start) and not binary STL: " + size_mismatch);
+    }
+    // Many binary writers start the header with "solid" too: the bytes after it tell.
+    if (holds_binary_bytes(data)) {
+      throw ParseError::at_byte(source, header_bytes,
+                                "binary STL (its header starts with 'solid', but the file holds "
+                                "non-text bytes) of the wrong size: " +
+                                    size_mismatch);
     }
   }
   return parse_ascii(data, source);
