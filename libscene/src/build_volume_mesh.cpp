@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <fstream>
 #include <sstream>
+#include <string>
 
 namespace khz::scene::detail {
 
@@ -57,6 +58,11 @@ std::vector<int> anchored_vertices(const reduced::VolumeMesh& mesh,
             << " vertices, which span [" << mesh.vertices.colwise().minCoeff() << "] to ["
             << mesh.vertices.colwise().maxCoeff() << "] (body frame, m)";
     throw reduced::Error(message.str());
+  }
+  if (static_cast<Eigen::Index>(fixed.size()) == mesh.num_vertices()) {
+    throw reduced::Error("the anchors select all " + std::to_string(mesh.num_vertices()) +
+                         " of the volume mesh's vertices: nothing is left to deform (make the "
+                         "\"anchors\" regions cover only the part held fixed)");
   }
   return fixed;
 }

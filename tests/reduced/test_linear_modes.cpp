@@ -20,6 +20,7 @@
 #include <cctype>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 #include <span>
 #include <string>
 #include <utility>
@@ -476,6 +477,12 @@ TEST(LinearModesErrors, RejectsInvalidOptionsAndVertices) {
   EXPECT_THROW(compute_linear_modes(model, {}, options), Error);
   options.num_modes = 1000;
   EXPECT_THROW(compute_linear_modes(model, {}, options), Error);
+  std::vector<int> every_vertex(static_cast<std::size_t>(model.mesh().num_vertices()));
+  std::iota(every_vertex.begin(), every_vertex.end(), 0);
+  options.num_modes = 6;
+  EXPECT_TRUE(test::throws_with_message<Error>(
+      [&] { compute_linear_modes(model, every_vertex, options); },
+      "6 modes need more than the 0 free dofs of the mesh (every vertex is fixed)"));
   options.num_modes = 2;
   options.tolerance = -1.0;
   EXPECT_THROW(compute_linear_modes(model, clamped, options), Error);

@@ -493,6 +493,12 @@ TEST(ScenePrepare, ErrorsNameTheObjectAndStepAndNestTheCause) {
       [&] { prepare_scene(scene_of(unanchored), cache); },
       "object \"wall\": reduced_model: the anchors select none of the volume mesh's 125 "
       "vertices"));
+  Json anchored_everywhere = reduced_scene();
+  anchored_everywhere["objects"][1]["model"]["anchors"][0]["point"] = {0, 0, 1};
+  EXPECT_TRUE(test::throws_with_message<PrepareError>(
+      [&] { prepare_scene(scene_of(anchored_everywhere), cache); },
+      "object \"wall\": reduced_model: the anchors select all 125 of the volume mesh's vertices: "
+      "nothing is left to deform"));
   // Nothing half-written stays behind.
   for (const std::string& name : cache_files(directory)) {
     EXPECT_EQ(name.find(".partial"), std::string::npos) << name;

@@ -180,7 +180,8 @@ LinearModes compute_linear_modes(const FemModel& model, std::span<const int> fix
     throw Error(std::to_string(options.num_modes) + " modes" +
                 (rigid_count > 0 ? " plus " + std::to_string(rigid_count) + " rigid modes" : "") +
                 " need more than the " + std::to_string(problem.dofs().num_free_dofs()) +
-                " free dofs of the mesh");
+                " free dofs of the mesh" +
+                (problem.dofs().num_free_dofs() == 0 ? " (every vertex is fixed)" : ""));
   }
   const Eigenpairs pairs = lowest_eigenpairs(problem, static_cast<int>(count), options);
   if (rigid_count > 0) require_rigid(pairs, rigid_count, model.mesh(), problem.mass());
