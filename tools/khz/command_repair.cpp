@@ -17,7 +17,8 @@ void add_repair_command(CLI::App& app) {
   };
   auto args = std::make_shared<Arguments>();
   CLI::App* command = app.add_subcommand(
-      "repair", "Weld vertices, drop degenerate triangles and orient a surface mesh");
+      "repair",
+      "Weld vertices, drop degenerate triangles, orient and optionally close a surface mesh");
   command->add_option("input", args->input, "Surface mesh to read")
       ->required()
       ->check(CLI::ExistingFile);
@@ -28,6 +29,8 @@ void add_repair_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   command->add_flag("--keep-orientation", args->keep_orientation, "Do not reorient triangles");
+  command->add_flag("--fill-holes", args->options.fill_holes,
+                    "Close every hole with triangles over its boundary (after orienting)");
   command->callback([args] {
     args->options.orient = !args->keep_orientation;
     reduced::TriangleMesh mesh = reduced::read_triangle_mesh(args->input);
@@ -42,6 +45,14 @@ void add_repair_command(CLI::App& app) {
       std::cout << "orienting copied " << summary.vertices_split
                 << " vertices at non-manifold points (they keep their positions, so the output "
                    "has duplicate positions; --keep-orientation keeps the mesh welded)\n";
+    }
+    if (args->options.fill_holes) {
+      std::cout << "filled " << summary.holes.filled << " holes";
+      if (summary.holes.left_open > 0) {
+        std::cout << ", left " << summary.holes.left_open
+                  << " open (filling them would make non-manifold edges)";
+      }
+      std::cout << "\n";
     }
     std::cout << "wrote " << args->output << "\n" << reduced::analyze_mesh(mesh);
   });

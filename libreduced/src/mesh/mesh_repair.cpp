@@ -242,6 +242,7 @@ RepairSummary repair_mesh(TriangleMesh& mesh, const RepairOptions& options) {
     summary.oriented = orient_consistently(mesh);
     summary.vertices_split = mesh.num_vertices() - before;
   }
+  if (options.fill_holes) summary.holes = fill_holes(mesh);
   return summary;
 }
 

@@ -37,11 +37,32 @@ KHZ_REDUCED_API Eigen::Index remove_degenerate_triangles(TriangleMesh& mesh);
 /// @throws MeshError if the mesh is invalid.
 KHZ_REDUCED_API bool orient_consistently(TriangleMesh& mesh);
 
+/// What fill_holes() did.
+struct HoleFilling {
+  Eigen::Index filled = 0;  ///< Holes closed.
+  /// Holes left open: no triangulation was found, or its triangles would have given an existing
+  /// edge a third triangle (a loop bridged by an edge of the surface, as where holes nearly meet).
+  Eigen::Index left_open = 0;
+};
+
+/// Closes every hole it can: each loop of boundary edges (edges only one triangle uses) is filled
+/// with triangles over the loop's own vertices, no new vertices, by CGAL's
+/// triangulate_hole_polyline() (Liepa 2003: the triangulation of least worst dihedral angle,
+/// then least area), oriented like the surface around it. Meant for the small holes of scans
+/// (ChineseDragon-10kv.off has one of 6 edges) so that the surface bounds a volume; a large
+/// opening is capped too, flat or curved as the loop runs. The result stays edge-manifold: a hole
+/// whose filling would break that is left open and counted. Vertex colours are kept (no vertex
+/// is added).
+/// @throws MeshError if the mesh is invalid, has non-manifold edges or is not consistently
+///         oriented (orient_consistently() first), or if two holes share a vertex.
+KHZ_REDUCED_API HoleFilling fill_holes(TriangleMesh& mesh);
+
 /// What repair_mesh() should do; each step runs in the order listed.
 struct RepairOptions {
   double weld_tolerance = 0.0;    ///< Passed to weld_vertices(); negative skips welding.
   bool remove_degenerate = true;  ///< Run remove_degenerate_triangles().
   bool orient = true;             ///< Run orient_consistently().
+  bool fill_holes = false;        ///< Then run fill_holes() (needs an oriented surface).
 };
 
 /// What repair_mesh() changed.
@@ -54,9 +75,10 @@ struct RepairSummary {
   /// must stay welded is repaired with options.orient = false.
   Eigen::Index vertices_split = 0;
   bool oriented = false;  ///< Result consistently oriented (only set when options.orient).
+  HoleFilling holes;      ///< What fill_holes() did (options.fill_holes).
 };
 
-/// Runs the selected repair steps in order: weld, remove degenerate, orient.
+/// Runs the selected repair steps in order: weld, remove degenerate, orient, fill holes.
 /// @throws MeshError if the mesh is invalid.
 KHZ_REDUCED_API RepairSummary repair_mesh(TriangleMesh& mesh, const RepairOptions& options = {});
 
