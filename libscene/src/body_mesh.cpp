@@ -2,6 +2,7 @@
 
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/io/mesh_file.hpp>
+#include <khz/reduced/mesh/mesh_repair.hpp>
 #include <khz/scene/procedural_shape.hpp>
 
 #include <string>
@@ -15,6 +16,7 @@ reduced::TriangleMesh to_body_frame(reduced::TriangleMesh file_mesh,
   if (mesh.vertices.rows() == 0) {
     throw reduced::MeshError("object \"" + object.name + "\": the mesh has no vertices");
   }
+  if (object.fill_holes) reduced::fill_holes(mesh);
   const Eigen::RowVector3d low = mesh.vertices.colwise().minCoeff();
   const Eigen::RowVector3d high = mesh.vertices.colwise().maxCoeff();
   double scale = object.scale;

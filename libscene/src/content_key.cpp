@@ -46,6 +46,8 @@ Json geometry_json(const ObjectDescription& object) {
   } else {
     geometry["scale"] = object.scale;
   }
+  // Only when set, so that the keys of scenes written before the option are unchanged.
+  if (object.fill_holes) geometry["fill_holes"] = true;
   return geometry;
 }
 

@@ -22,6 +22,9 @@ namespace khz::scene::detail {
 
 /// The object's distance field from its body-frame surface: signed_distance_field(), or
 /// polygon_soup_field()'s field for soups, with the field settings.
+/// @throws reduced::MeshError, in the scene's terms, for a signed field of an open or
+///         non-manifold surface (before computing it) or a field with "inside" nodes on its
+///         box's faces (after).
 contact::DistanceGrid compute_distance_field(const reduced::TriangleMesh& surface,
                                              const FieldDescription& field,
                                              const reduced::ProgressCallback& progress);

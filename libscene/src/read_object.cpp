@@ -341,7 +341,8 @@ FieldDescription read_field(const ObjectReader& object, const ObjectDescription&
 ObjectDescription read_object(const Json& value, const Location& at, const ReadContext& context) {
   const ObjectReader object(
       value, at,
-      {"name", "mesh", "scale", "size", "centre", "pose", "roles", "model", "field", "pointshell"},
+      {"name", "mesh", "scale", "size", "centre", "fill_holes", "pose", "roles", "model", "field",
+       "pointshell"},
       {{"role", "roles"}, {"position", "pose"}, {"rotation", "pose"}, {"path", "mesh"}});
   ObjectDescription result;
   result.name = object.required_string("name", "the object's name");
@@ -362,6 +363,7 @@ ObjectDescription read_object(const Json& value, const Location& at, const ReadC
   result.scale = object.number("scale", result.scale, above(0.0));
   if (object.has("size")) result.size = object.number("size", 0.0, above(0.0));
   result.centre = object.boolean("centre", result.centre);
+  result.fill_holes = object.boolean("fill_holes", result.fill_holes);
   if (object.has("pose")) result.pose = read_pose(object.value("pose"), object.at("pose"));
   result.roles = read_roles(object);
   result.model = read_model(object, context);

@@ -6,6 +6,7 @@
 #include <khz/contact/field/deformed_distance_field.hpp>
 #include <khz/contact/query/contact_query.hpp>
 #include <khz/contact/query/contact_workspace.hpp>
+#include <khz/reduced/io/mesh_file.hpp>
 #include <khz/scene/body_mesh.hpp>
 #include <khz/scene/cache_directory.hpp>
 #include "scene_fixtures.hpp"
@@ -503,6 +504,64 @@ TEST(ScenePrepare, ErrorsNameTheObjectAndStepAndNestTheCause) {
   for (const std::string& name : cache_files(directory)) {
     EXPECT_EQ(name.find(".partial"), std::string::npos) << name;
   }
+}
+
+/// rigid_scene() with the wall made from `mesh` (a path), scaled to 10 cm and centred.
+Json wall_of(const std::filesystem::path& mesh) {
+  Json scene = rigid_scene();
+  scene["objects"][0]["mesh"] = mesh.string();
+  return scene;
+}
+
+TEST(ScenePrepare, AnOpenMeshGetsNoSignedFieldUnlessItsHolesAreFilledOrItIsASoup) {
+  // CGAL's open_cube.off misses one face: without a defined inside its field would be signed by
+  // guesswork, so it is refused in the scene's terms.
+  Json open_box = wall_of(test::cgal_mesh("cube-ouvert.off"));
+  EXPECT_TRUE(test::throws_with_message<PrepareError>(
+      [&] { prepare(open_box, fresh_cache()); },
+      "object \"wall\": distance_field: the mesh is not closed (4 boundary edges)"));
+  try {
+    prepare(open_box, fresh_cache());
+  } catch (const PrepareError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("\"fill_holes\": true"), std::string::npos) << message;
+    EXPECT_NE(message.find("\"soup\": true"), std::string::npos) << message;
+  }
+
+  // Filled, it is the cube [-1, 1]³: the centre a half side inside, the box boundary outside.
+  // (The file also holds an unused vertex at (1, 2, 1), which "size" and "centre" count: the
+  // longest side is 3, the body origin sits at file point (0, 0.5, 0).)
+  open_box["objects"][0]["fill_holes"] = true;
+  const PreparedScene filled = prepare(open_box, fresh_cache());
+  const contact::DistanceGrid& field = *filled.objects[0].field;
+  EXPECT_EQ(field.boundary_nodes_inside(), 0);
+  const double scale = 0.1 / 3.0;
+  EXPECT_NEAR(field.distance(Eigen::Vector3d(0.0, -0.5 * scale, 0.0)), -scale,
+              0.5 * field.geometry().spacing);
+
+  // As a soup it is signed by an offset surface instead.
+  open_box["objects"][0].erase("fill_holes");
+  open_box["objects"][0]["field"]["soup"] = true;
+  EXPECT_EQ(prepare(open_box, fresh_cache()).objects[0].field->boundary_nodes_inside(), 0);
+}
+
+TEST(ScenePrepare, AClosedSelfIntersectingMeshIsPreparedWhenItsFieldIsNotInsideOut) {
+  // CGAL's man.off: closed, 848 crossing triangle pairs (test_mesh_distance_field compares its
+  // field with CGAL's ray parity).
+  const PreparedScene prepared = prepare(wall_of(test::cgal_mesh("man.off")), fresh_cache());
+  EXPECT_EQ(prepared.objects[0].field->boundary_nodes_inside(), 0);
+}
+
+TEST(ScenePrepare, AnInsideOutFieldIsRefused) {
+  // dino.off with every triangle turned inward: closed, but its field puts the whole box inside.
+  reduced::TriangleMesh dino = reduced::read_triangle_mesh(test::cgal_mesh("dino.off"));
+  dino.triangles.col(1).swap(dino.triangles.col(2));
+  const std::filesystem::path inverted = test::scratch_file("inverted_dino.off");
+  reduced::write_triangle_mesh(inverted, dino);
+  EXPECT_TRUE(test::throws_with_message<PrepareError>(
+      [&] { prepare(wall_of(inverted), fresh_cache()); },
+      "object \"wall\": distance_field: the signed distance field is inside-out: 1538 of the "
+      "1538 nodes on the faces of its box"));
 }
 
 TEST(ScenePrepare, ProgressNamesObjectAndStepAndCanCancel) {

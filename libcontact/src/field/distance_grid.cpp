@@ -32,11 +32,18 @@ DistanceGrid::DistanceGrid(const GridGeometry& geometry, std::vector<float> valu
     for (int j = 0; j <= last; ++j) {
       const bool face_kj = k == 0 || k == last || j == 0 || j == last;
       for (int i = 0; i <= last; i += face_kj ? 1 : last) {
-        smallest = std::min(smallest, static_cast<double>(node(i, j, k)));
+        const float value = node(i, j, k);
+        smallest = std::min(smallest, static_cast<double>(value));
+        m_boundary_nodes_inside += value < 0.0f ? 1 : 0;
       }
     }
   }
   m_boundary_minimum = smallest - m_geometry.spacing / std::numbers::sqrt2;
+}
+
+std::int64_t DistanceGrid::boundary_node_count() const noexcept {
+  const std::int64_t n = m_geometry.nodes_per_axis(), inner = m_geometry.cells - 1;
+  return n * n * n - inner * inner * inner;
 }
 
 float DistanceGrid::node(int i, int j, int k) const noexcept {

@@ -11,9 +11,10 @@ namespace khz::scene {
 /// `file_mesh` (in its file's units) moved into the object's body frame (m): every coordinate
 /// multiplied by the scale — `object.scale`, or with `object.size` the factor that makes the
 /// longest side of the mesh's bounding box `*object.size` — and then, with `object.centre`, the
-/// centre of the scaled bounding box subtracted. Triangles are kept as they are.
+/// centre of the scaled bounding box subtracted. Triangles are kept as they are, except that
+/// with `object.fill_holes` reduced::fill_holes() first adds those closing the holes.
 /// @throws reduced::MeshError if `object.size` is set and the vertices all lie in one point
-///         (no side to scale), or the mesh has no vertices.
+///         (no side to scale), the mesh has no vertices, or fill_holes() refuses the mesh.
 KHZ_SCENE_API reduced::TriangleMesh to_body_frame(reduced::TriangleMesh file_mesh,
                                                   const ObjectDescription& object);
 

@@ -43,6 +43,10 @@ struct ObjectDescription {
   /// "centre": move the body frame's origin to the centre of the mesh's bounding box (after
   /// scaling). Default false: the file's origin is kept.
   bool centre = false;
+  /// "fill_holes": close the mesh's holes with reduced::fill_holes() before anything is made
+  /// from it, e.g. for a scan with small holes that needs a signed distance field (which an open
+  /// mesh is refused). Default false.
+  bool fill_holes = false;
   /// "pose": world ← body at the start: {"position": [x, y, z] (m), "rotation": {"axis":
   /// [x, y, z], "degrees": angle}} (right-handed about the axis, which need not be unit).
   /// Default: identity.

@@ -53,6 +53,13 @@ class KHZ_CONTACT_API DistanceGrid {
   /// to its nearest node (h/√2), since a distance function changes no faster than the distance
   /// travelled.
   double boundary_minimum() const noexcept { return m_boundary_minimum; }
+  /// Nodes on the box's six faces with a negative value. A signed field over a box around its
+  /// surface with a margin (GridGeometry::cube_around with expansion > 1, as the field builders
+  /// make it) has none: any is a sign error, the mark of a mesh whose inside is undefined (open,
+  /// self-intersecting, inverted triangles) or of a box that does not surround it.
+  std::int64_t boundary_nodes_inside() const noexcept { return m_boundary_nodes_inside; }
+  /// The number of nodes on the box's six faces: (cells + 1)³ − (cells − 1)³.
+  std::int64_t boundary_node_count() const noexcept;
 
   /// Trilinear value inside the box (its surface included); the bound of inequality 3.14
   /// outside. Inline: the contact query's inner loop.
@@ -140,6 +147,7 @@ class KHZ_CONTACT_API DistanceGrid {
   std::vector<float> m_values;
   bool m_signed;
   double m_boundary_minimum;
+  std::int64_t m_boundary_nodes_inside = 0;
   double m_inverse_spacing;
 };
 
