@@ -23,6 +23,10 @@ reduced::VolumeMesh compute_volume_mesh(const reduced::TriangleMesh& surface,
     stage.finish();
     return mesh;
   }
+  require_closed_surface(surface, "it cannot be tetrahedralized",
+                         "set \"fill_holes\": true on the object to close small holes, or "
+                         "mesh it with \"meshing\": {\"method\": \"voxels\"}, which takes any "
+                         "surface");
   reduced::StageProgress stage(progress, "tetrahedralization", 1);
   reduced::VolumeMesh mesh = reduced::tetrahedralize(surface, meshing.tetrahedra);
   stage.finish();

@@ -16,9 +16,16 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace khz::scene::detail {
+
+/// Nothing if `surface` bounds a volume (closed, edge-manifold, consistently oriented).
+/// @throws reduced::MeshError "the mesh <problem>, so its inside is undefined and <needed_by>;
+///         <remedy>", naming the first problem and pointing to khz info and khz repair.
+void require_closed_surface(const reduced::TriangleMesh& surface, std::string_view needed_by,
+                            std::string_view remedy);
 
 /// The object's distance field from its body-frame surface: signed_distance_field(), or
 /// polygon_soup_field()'s field for soups, with the field settings.
@@ -40,6 +47,8 @@ contact::Pointshell compute_pointshell(const reduced::TriangleMesh& surface,
                                        std::string& note);
 
 /// The volume mesh of model.meshing (voxelize() or tetrahedralize()) of the body-frame surface.
+/// @throws reduced::MeshError, in the scene's terms, before tetrahedralizing a surface that does
+///         not bound a volume.
 reduced::VolumeMesh compute_volume_mesh(const reduced::TriangleMesh& surface,
                                         const MeshingDescription& meshing,
                                         const reduced::ProgressCallback& progress);

@@ -519,7 +519,9 @@ TEST(ScenePrepare, AnOpenMeshGetsNoSignedFieldUnlessItsHolesAreFilledOrItIsASoup
   Json open_box = wall_of(test::cgal_mesh("cube-ouvert.off"));
   EXPECT_TRUE(test::throws_with_message<PrepareError>(
       [&] { prepare(open_box, fresh_cache()); },
-      "object \"wall\": distance_field: the mesh is not closed (4 boundary edges)"));
+      "object \"wall\": distance_field: the mesh is not closed (4 boundary edges), so its inside "
+      "is "
+      "undefined and a signed distance field would be inside-out in places"));
   try {
     prepare(open_box, fresh_cache());
   } catch (const PrepareError& error) {
@@ -543,6 +545,20 @@ TEST(ScenePrepare, AnOpenMeshGetsNoSignedFieldUnlessItsHolesAreFilledOrItIsASoup
   open_box["objects"][0].erase("fill_holes");
   open_box["objects"][0]["field"]["soup"] = true;
   EXPECT_EQ(prepare(open_box, fresh_cache()).objects[0].field->boundary_nodes_inside(), 0);
+}
+
+TEST(ScenePrepare, AnOpenMeshIsNotTetrahedralized) {
+  Json open_tool = reduced_scene();
+  open_tool["objects"][0]["mesh"] = test::cgal_mesh("cube-ouvert.off").string();
+  open_tool["objects"][0]["model"]["meshing"] = {{"method", "tetrahedra"}};
+  open_tool["objects"][0]["roles"] = {"pointshell"};
+  open_tool["objects"][0]["pointshell"] = {{"method", "vertices"}};
+  open_tool["objects"][0].erase("field");
+  EXPECT_TRUE(test::throws_with_message<PrepareError>(
+      [&] { prepare(open_tool, fresh_cache()); },
+      "object \"tool\": volume_mesh: the mesh is not closed (4 boundary edges), so its inside "
+      "is undefined and it cannot be tetrahedralized; set \"fill_holes\": true on the object to "
+      "close small holes, or mesh it with \"meshing\": {\"method\": \"voxels\"}"));
 }
 
 TEST(ScenePrepare, AClosedSelfIntersectingMeshIsPreparedWhenItsFieldIsNotInsideOut) {
