@@ -274,6 +274,7 @@ PreparedScene prepare_scene(const SceneDescription& scene, ProductCache& cache,
       std::throw_with_nested(PrepareError(object.name, preparer.step(), error.what()));
     }
   }
+  prepared.warnings = detail::scale_warnings(prepared);
   return prepared;
 }
 

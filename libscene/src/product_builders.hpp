@@ -12,6 +12,7 @@
 #include <khz/reduced/progress.hpp>
 #include <khz/reduced/subspace/reduced_model.hpp>
 #include <khz/scene/object_description.hpp>
+#include <khz/scene/prepared_scene.hpp>
 
 #include <filesystem>
 #include <span>
@@ -20,6 +21,16 @@
 #include <vector>
 
 namespace khz::scene::detail {
+
+/// Objects' sizes, the longest side of the body-frame bounding box their products give, outside
+/// [min_plausible_extent, max_plausible_extent] metres or at least max_plausible_ratio times the
+/// smallest object's: the signs of a mesh in other units than metres.
+inline constexpr double min_plausible_extent = 1e-3, max_plausible_extent = 10.0;
+inline constexpr double max_plausible_ratio = 100.0;
+
+/// One warning per object whose size is implausible (see max_plausible_ratio), naming the
+/// "scale" and "size" keys.
+std::vector<PrepareWarning> scale_warnings(const PreparedScene& prepared);
 
 /// Nothing if `surface` bounds a volume (closed, edge-manifold, consistently oriented).
 /// @throws reduced::MeshError "the mesh <problem>, so its inside is undefined and <needed_by>;

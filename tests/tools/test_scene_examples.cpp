@@ -124,6 +124,9 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
   ProductCache cache(cache_directory);
   const PreparedScene prepared = prepare_scene(description, cache);
   EXPECT_GT(prepared.count(PrepareRecord::Origin::computed), 0);
+  for (const PrepareWarning& warning : prepared.warnings) {
+    ADD_FAILURE() << "object \"" << warning.object << "\": " << warning.message;
+  }
   ProductCache again(cache_directory);
   EXPECT_EQ(prepare_scene(description, again).count(PrepareRecord::Origin::computed), 0)
       << "the second preparation recomputes nothing";

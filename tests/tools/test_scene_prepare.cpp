@@ -580,6 +580,31 @@ TEST(ScenePrepare, AnInsideOutFieldIsRefused) {
       "1538 nodes on the faces of its box"));
 }
 
+TEST(ScenePrepare, WarnsAboutSizesThatSuggestOtherUnitsThanMetres) {
+  EXPECT_TRUE(prepare(rigid_scene(), fresh_cache()).warnings.empty());
+
+  // A wall of 1000 m: an object in millimetres read as metres.
+  Json huge = rigid_scene();
+  huge["objects"][0].erase("size");
+  huge["objects"][0]["scale"] = 1000.0;
+  const PreparedScene kilometre = prepare(huge, fresh_cache());
+  ASSERT_EQ(kilometre.warnings.size(), 1u);
+  EXPECT_EQ(kilometre.warnings[0].object, "wall");
+  EXPECT_NE(kilometre.warnings[0].message.find("it is 1000 m across, implausible"),
+            std::string::npos)
+      << kilometre.warnings[0].message;
+  EXPECT_NE(kilometre.warnings[0].message.find("\"scale\""), std::string::npos);
+
+  // Each size plausible alone, but a 6 m wall against a 5 cm tool: 120 times.
+  Json mismatched = rigid_scene();
+  mismatched["objects"][0]["size"] = 6.0;
+  const PreparedScene apart = prepare(mismatched, fresh_cache());
+  ASSERT_EQ(apart.warnings.size(), 1u);
+  EXPECT_EQ(apart.warnings[0].object, "wall");
+  EXPECT_NE(apart.warnings[0].message.find("times \"tool\""), std::string::npos)
+      << apart.warnings[0].message;
+}
+
 TEST(ScenePrepare, ProgressNamesObjectAndStepAndCanCancel) {
   const std::filesystem::path directory = fresh_cache();
   std::set<std::pair<std::string, PrepareStep>> reported;

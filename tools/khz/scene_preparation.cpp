@@ -80,6 +80,9 @@ void print_prepare_summary(std::ostream& out, const scene::PreparedScene& prepar
     out << "note: " << record.object << " " << scene::step_name(record.step) << ": " << record.note
         << "\n";
   }
+  for (const scene::PrepareWarning& warning : prepared.warnings) {
+    out << "warning: object \"" << warning.object << "\": " << warning.message << "\n";
+  }
 }
 
 scene::PreparedScene prepare_with_progress(const scene::SceneDescription& description,

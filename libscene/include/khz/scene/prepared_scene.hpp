@@ -86,6 +86,13 @@ struct PreparedObject {
   std::unique_ptr<contact::DeformablePointTree> deformable_tree;
 };
 
+/// Something about a prepared object that is likely a mistake but not an error, e.g. a size that
+/// suggests a mesh in millimetres read as metres.
+struct PrepareWarning {
+  std::string object;   ///< The object's name.
+  std::string message;  ///< What looks wrong and which scene key changes it.
+};
+
 /// A prepared scene: its description and, for every object in the same order, what was
 /// prepared. Movable, not copyable; see PreparedObject for the lifetimes.
 struct KHZ_SCENE_API PreparedScene {
@@ -94,6 +101,8 @@ struct KHZ_SCENE_API PreparedScene {
   std::vector<PreparedObject> objects;
   /// Every product obtained, in order: object by object, steps in PrepareStep order.
   std::vector<PrepareRecord> records;
+  /// What looked implausible (prepare_scene() says which checks run); empty when nothing did.
+  std::vector<PrepareWarning> warnings;
 
   /// How many records have the given origin (computed: 0 when the cache had everything).
   int count(PrepareRecord::Origin origin) const noexcept;
