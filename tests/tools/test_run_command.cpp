@@ -94,7 +94,17 @@ TEST(KhzReport, WritesTablesAndPlots) {
       khz("report \"" + scene.string() + "\" --out \"" + out.string() + "\" --cache \"" +
           scratch_directory("cache").string() + "\" --frames 10 --width 160 --height 120");
   ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(has_line_with(run, {"among the 300 recorded"}));
   const std::string report = read_bytes(out / "report.md");
+  // khz says how many states it replayed, and the report says the same.
+  const std::string replayed = "replayed ";
+  const std::size_t at = run.output.find(replayed);
+  ASSERT_NE(at, std::string::npos) << run.output;
+  const int states = std::stoi(run.output.substr(at + replayed.size()));
+  EXPECT_GT(states, 0);
+  EXPECT_LE(states, 300);
+  EXPECT_NE(report.find("in contact (" + std::to_string(states) + ","), std::string::npos)
+      << report;
   for (const char* text :
        {"| cycles | 300 at 1000 Hz", "| all levels (reference) |", "| level 0 |", "| level 1 |",
         "| budget 50 us |", "![speed against error](speed_vs_error.png)",

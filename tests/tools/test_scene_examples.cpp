@@ -170,9 +170,30 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
   EXPECT_GT(contact_frame->in_contact, 0);
   EXPECT_GT(contact_frame->traversed, 0);
 
-  const std::vector<run::SweepResult> sweep = run::sweep_contact(
-      runtime, states, run::default_sweep(description.contact, run::tree_levels(prepared)), 300);
+  const std::vector<run::SweepSetting> settings =
+      run::default_sweep(description.contact, run::tree_levels(prepared));
+  std::vector<std::string> stages;
+  const std::vector<run::SweepResult> sweep =
+      run::sweep_contact(runtime, states, settings, 300, [&](const reduced::Progress& progress) {
+        if (progress.done == 0) stages.emplace_back(progress.stage);
+        return true;
+      });
   ASSERT_GE(sweep.size(), 3u);
+  // One stage to find the states in contact, then one per setting; each names what it counts.
+  ASSERT_EQ(stages.size(), settings.size() + 1);
+  EXPECT_EQ(stages.front(), "finding the states in contact");
+  EXPECT_EQ(stages.back(), settings.back().name);
+  EXPECT_GT(sweep.front().states, 0u);
+  EXPECT_LE(sweep.front().states, 300u);
+  // Cancelled while replaying at level 0, it stops and leaves the scene's own options in place.
+  ASSERT_EQ(settings[1].options.max_level, 0);
+  ASSERT_NE(description.contact.max_level, 0);
+  EXPECT_THROW(run::sweep_contact(runtime, states, settings, 300,
+                                  [&](const reduced::Progress& progress) {
+                                    return progress.stage != settings[1].name || progress.done < 3;
+                                  }),
+               reduced::Cancelled);
+  EXPECT_EQ(runtime.world().contact_options().max_level, description.contact.max_level);
   EXPECT_EQ(sweep[0].force_error, 0.0);  // the reference against itself
   EXPECT_GT(sweep[1].force_error, 0.0);  // level 0 is coarse
   EXPECT_LT(sweep[2].force_error, sweep[1].force_error) << "a finer level is closer";

@@ -1,7 +1,11 @@
 #include "commands.hpp"
+#include "progress_bar.hpp"
+#include "scene_preparation.hpp"
 #include "scene_session.hpp"
 
 #include <khz/run/run_report.hpp>
+
+#include <unistd.h>
 
 #include <algorithm>
 #include <iostream>
@@ -26,10 +30,21 @@ void report(const RunRequest& request) {
   SceneSession session(request);
   RunResult result = session.run(true);
   scene::SceneRuntime& runtime = session.runtime();
-  std::cout << "replaying " << result.states.size() << " states for speed against error\n";
+  const std::vector<run::SweepSetting> settings =
+      run::default_sweep(runtime.description().contact, run::tree_levels(runtime.prepared()));
+  constexpr std::size_t max_states = 2000;
+  std::cout << "speed against error: " << settings.size() << " settings over the states in "
+            << "contact among the " << result.states.size() << " recorded (at most " << max_states
+            << ", evenly spaced)\n";
+  ProgressBar bar(std::cerr, ::isatty(STDERR_FILENO) == 1);
+  const InterruptRequest interrupt;
   const std::vector<run::SweepResult> sweep = run::sweep_contact(
-      runtime, result.states,
-      run::default_sweep(runtime.description().contact, run::tree_levels(runtime.prepared())));
+      runtime, result.states, settings, max_states, [&](const reduced::Progress& progress) {
+        bar.update("replaying: " + std::string(progress.stage), progress);
+        return !interrupt.requested();
+      });
+  bar.clear();
+  std::cout << "replayed " << sweep.front().states << " states in contact under each setting\n";
   run::ReportInput input;
   input.scene = request.scene;
   input.description = runtime.description().description;

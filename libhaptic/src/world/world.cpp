@@ -51,6 +51,7 @@ struct World::Data {
   std::vector<WorldPair> pairs;
   std::vector<PairState> pair_states;
   std::vector<Eigen::VectorXd> reduced_forces;  // per body, Σ over its pairs (r, or empty)
+  contact::ContactOptions contact_options;      // the last given, before per-pair roles
 
   std::string body_name(int index) const {
     const std::string& name = bodies[static_cast<std::size_t>(index)].name;
@@ -124,6 +125,7 @@ World::World(std::vector<Body> bodies, std::vector<Hand> hands,
   d.bodies = std::move(bodies);
   const int body_count = static_cast<int>(d.bodies.size());
   options.validate();
+  d.contact_options = options;
 
   // Bodies: a reduced body's integrator matches its tree's and field's r.
   for (int i = 0; i < body_count; ++i) {
@@ -357,6 +359,11 @@ void World::set_contact_options(const contact::ContactOptions& options) {
   for (std::size_t p = 0; p < d.pairs.size(); ++p) {
     d.pair_states[p].workspace->set_options(d.pair_options(options, d.pairs[p]));
   }
+  d.contact_options = options;
+}
+
+const contact::ContactOptions& World::contact_options() const noexcept {
+  return m_data->contact_options;
 }
 
 }  // namespace khz::haptic

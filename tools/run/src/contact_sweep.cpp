@@ -1,5 +1,7 @@
 #include <khz/run/contact_sweep.hpp>
 
+#include <khz/reduced/stage_progress.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -66,9 +68,10 @@ struct Replay {
 
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
-/// Every state's force and torque per hand (state-major), cost and nodes over all pairs.
+/// Every state's force and torque per hand (state-major), cost and nodes over all pairs;
+/// `stage` reports one unit a state.
 Replay replay(scene::SceneRuntime& runtime, const std::vector<const RecordedState*>& states,
-              const contact::ContactOptions& options) {
+              const contact::ContactOptions& options, reduced::StageProgress& stage) {
   haptic::World& world = runtime.world();
   world.set_contact_options(options);
   Replay r;
@@ -84,7 +87,9 @@ Replay replay(scene::SceneRuntime& runtime, const std::vector<const RecordedStat
     }
     r.us.push_back(ok ? statistics.microseconds : nan);
     r.nodes.push_back(ok ? static_cast<double>(statistics.nodes_traversed) : nan);
+    stage.advance();
   }
+  stage.finish();
   return r;
 }
 
@@ -108,12 +113,20 @@ std::pair<double, double> relative_errors(const std::vector<Eigen::Vector3d>& a,
 std::vector<SweepResult> sweep_contact(scene::SceneRuntime& runtime,
                                        const std::vector<RecordedState>& states,
                                        const std::vector<SweepSetting>& settings,
-                                       std::size_t max_states) {
+                                       std::size_t max_states,
+                                       const reduced::ProgressCallback& progress) {
   if (settings.empty()) throw reduced::Error("sweep_contact: no settings");
+  // Whatever ends the sweep, the scene's own options are back afterwards.
+  struct RestoreOptions {
+    scene::SceneRuntime& runtime;
+    ~RestoreOptions() { runtime.world().set_contact_options(runtime.description().contact); }
+  } restore{runtime};
   // The states in contact under the reference, evenly thinned to max_states.
   std::vector<const RecordedState*> all;
   for (const RecordedState& state : states) all.push_back(&state);
-  const Replay probe = replay(runtime, all, settings.front().options);
+  reduced::StageProgress finding(progress, "finding the states in contact",
+                                 static_cast<std::int64_t>(all.size()));
+  const Replay probe = replay(runtime, all, settings.front().options, finding);
   const auto hands = static_cast<std::size_t>(runtime.hand_count());
   std::vector<const RecordedState*> touching;
   for (std::size_t i = 0; i < all.size(); ++i) {
@@ -136,7 +149,9 @@ std::vector<SweepResult> sweep_contact(scene::SceneRuntime& runtime,
   std::vector<SweepResult> results;
   Replay reference;
   for (const SweepSetting& setting : settings) {
-    Replay r = replay(runtime, touching, setting.options);
+    reduced::StageProgress stage(progress, setting.name,
+                                 static_cast<std::int64_t>(touching.size()));
+    Replay r = replay(runtime, touching, setting.options, stage);
     if (results.empty()) reference = r;
     SweepResult result;
     result.name = setting.name;
@@ -145,9 +160,9 @@ std::vector<SweepResult> sweep_contact(scene::SceneRuntime& runtime,
     std::tie(result.force_error, result.max_force_error) =
         relative_errors(r.force, reference.force);
     result.torque_error = relative_errors(r.torque, reference.torque).first;
+    result.states = touching.size();
     results.push_back(result);
   }
-  runtime.world().set_contact_options(runtime.description().contact);
   return results;
 }
 

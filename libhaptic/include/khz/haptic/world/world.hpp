@@ -120,6 +120,9 @@ class KHZ_HAPTIC_API World {
   /// Replaces every pair's contact options (and resets them). The pairs stay as built.
   /// @throws Error as contact::ContactWorkspace.
   void set_contact_options(const contact::ContactOptions& options);
+  /// The contact options last given (constructor or set_contact_options()), before each pair
+  /// gets its hand's role as the haptic object.
+  const contact::ContactOptions& contact_options() const noexcept;
 
  private:
   void begin_cycle(double deadline) noexcept;

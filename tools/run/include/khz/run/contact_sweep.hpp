@@ -3,6 +3,7 @@
 // fixed level of detail and under time budgets, each compared with the full traversal (thesis
 // §3.5.1, §3.10.3, Table 3.1).
 
+#include <khz/reduced/progress.hpp>
 #include <khz/run/run_summary.hpp>
 #include <khz/scene/scene_runtime.hpp>
 
@@ -46,6 +47,8 @@ struct SweepResult {
   double force_error = 0.0;
   double torque_error = 0.0;     ///< The same for the torque.
   double max_force_error = 0.0;  ///< max |F − F_ref| / max |F_ref|.
+  /// The states replayed: those in contact under the reference, thinned to max_states.
+  std::size_t states = 0;
 };
 
 /// Replays `states` (those where the reference finds contact for some hand; at most
@@ -53,11 +56,14 @@ struct SweepResult {
 /// pair queried, nothing stepped) under each setting in turn, the first
 /// setting being the reference, and restores the scene's options afterwards. Each setting
 /// starts from a reset workspace and sees the states in order, so time budgets warm up as in
-/// a run.
-/// @throws reduced::Error if `settings` is empty, or as SceneRuntime::set_coordinates().
+/// a run. `progress` hears of stage "finding the states in contact" (one unit a recorded state)
+/// and then of one stage a setting, named after it (one unit a replayed state).
+/// @throws reduced::Error if `settings` is empty, or as SceneRuntime::set_coordinates();
+///         reduced::Cancelled if `progress` returns false (the scene's options restored).
 std::vector<SweepResult> sweep_contact(scene::SceneRuntime& runtime,
                                        const std::vector<RecordedState>& states,
                                        const std::vector<SweepSetting>& settings,
-                                       std::size_t max_states = 2000);
+                                       std::size_t max_states = 2000,
+                                       const reduced::ProgressCallback& progress = {});
 
 }  // namespace khz::run
