@@ -77,6 +77,7 @@ const OptionTable<haptic::SafetyOptions>& option_table() {
       number("max_torque", &O::max_torque, at_least(0.0)),
       number("deadline_tolerance", &O::deadline_tolerance, at_least(0.0)),
       integer("ramp_cycles", &O::ramp_cycles, at_least(0)),
+      number("onset_force", &O::onset_force, at_least(0.0)),
       integer("index_button", &O::index_button, closed(-1, 31)),
       flag("index_orientation", &O::index_orientation),
       flag("zero_output_while_indexing", &O::zero_output_while_indexing),

@@ -16,6 +16,7 @@ namespace khz::haptic {
 namespace {
 
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+constexpr double infinity = std::numeric_limits<double>::infinity();
 
 Wrench wrench(const Eigen::Vector3d& force,
               const Eigen::Vector3d& torque = Eigen::Vector3d::Zero()) {
@@ -139,9 +140,51 @@ TEST(SafeDevice, InvalidInputZeroesTheSameCycleAndRecovers) {
   EXPECT_EQ(rig.safe.statistics().invalid_inputs, 2u);
   EXPECT_EQ(rig.safe.statistics().zeroed_writes, 2u);
 
+  // Back, but the device may have come back inside something: nothing while the force asked
+  // for exceeds onset_force (1 N), then at once (no ramp configured).
   rig.device.set_pose(Pose{});
-  EXPECT_EQ(rig.cycle(push).force, push.force);  // no ramp configured: back at once
+  EXPECT_EQ(rig.cycle(push).force, Eigen::Vector3d::Zero());
   EXPECT_TRUE(rig.state.valid);
+  EXPECT_EQ(rig.safe.last_write_events(), safety_waiting_for_small_force);
+  const Wrench light = wrench({0.6, 0.8, 0});  // exactly 1 N
+  EXPECT_EQ(rig.cycle(light).force, light.force);
+  EXPECT_EQ(rig.cycle(push).force, push.force);
+  EXPECT_EQ(rig.safe.statistics().zeroed_writes, 2u);  // waiting is not a fault
+}
+
+TEST(SafeDevice, WaitsForASmallForceAfterOpeningAndNotAfterADeadlineMiss) {
+  NullDevice device;
+  SafeDevice safe(device, {.deadline_tolerance = 0.0, .onset_force = 2.0});
+  safe.open();
+  DeviceState state;
+  const Wrench push = wrench({0, 0, -5});
+  const auto cycle = [&](const Wrench& w) {
+    safe.begin_cycle(1.0);
+    safe.read(state);
+    safe.write(w);
+    safe.end_cycle(1.0);
+    return device.last_written().force;
+  };
+  // Opened inside an object: the 5 N push is held back for as long as it lasts.
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(cycle(push), Eigen::Vector3d::Zero());
+  EXPECT_EQ(safe.last_write_events(), safety_waiting_for_small_force);
+  EXPECT_EQ(cycle(wrench({0, 0, -2})), Eigen::Vector3d(0, 0, -2));  // at the threshold: on
+  EXPECT_EQ(cycle(push), push.force);
+
+  // A missed deadline zeroes one write, then the push resumes without waiting.
+  safe.begin_cycle(1.0);
+  safe.read(state);
+  safe.write(push);
+  safe.end_cycle(2.0);
+  EXPECT_EQ(cycle(push), Eigen::Vector3d::Zero());
+  EXPECT_EQ(cycle(push), push.force);
+
+  // Infinity turns the wait off.
+  SafeDevice eager(device, {.onset_force = infinity});
+  eager.open();
+  eager.read(state);
+  eager.write(push);
+  EXPECT_EQ(device.last_written().force, push.force);
 }
 
 TEST(SafeDevice, NonFiniteOutputNeverReachesTheDevice) {
@@ -279,10 +322,14 @@ TEST(SafeDevice, RejectsInvalidSettingsAndCapabilities) {
 // gets zero within the cycle and its output back afterwards (through the ramp).
 TEST(SafeDevice, FaultsMidContactZeroTheWrenchWithinOneCycleAndRecover) {
   // The hand pushes the simulated device 2 cm into a wall at x = 0 rendered at 1500 N/m.
-  const Pose behind{Eigen::Vector3d(0.02, 0, 0), Eigen::Quaterniond::Identity()};
+  double depth = 0.02;  // where the hand pushes (m)
   SimulatedOperatorOptions options;
   options.start_at_target = false;
-  SimulatedOperator device([&](double) { return behind; }, options);
+  SimulatedOperator device(
+      [&](double) {
+        return Pose{Eigen::Vector3d(depth, 0, 0), Eigen::Quaterniond::Identity()};
+      },
+      options);
   SafeDevice safe(device, {.ramp_cycles = 5});
   safe.open();
   DeviceState state;
@@ -300,6 +347,8 @@ TEST(SafeDevice, FaultsMidContactZeroTheWrenchWithinOneCycleAndRecover) {
 
   for (const bool disconnect : {false, true}) {
     SCOPED_TRACE(disconnect ? "disconnect" : "NaN pose");
+    depth = 0.02;
+    for (int i = 0; i < 1000; ++i) cycle();
     if (disconnect) {
       device.inject_disconnect(3);
     } else {
@@ -309,15 +358,27 @@ TEST(SafeDevice, FaultsMidContactZeroTheWrenchWithinOneCycleAndRecover) {
       EXPECT_EQ(cycle(), 0.0);  // the very cycle of the fault renders nothing
       EXPECT_FALSE(state.valid);
     }
-    // Back: the ramp brings the contact force back in five cycles, no jolt.
-    double previous = 0.0;
-    for (int k = 1; k <= 5; ++k) {
+    // Back, still pressed 2 cm in (30 N): nothing until the hand eases off to 1 N or less.
+    for (int i = 0; i < 50; ++i) EXPECT_EQ(cycle(), 0.0);
+    EXPECT_TRUE(state.valid);
+    EXPECT_EQ(safe.last_write_events(), safety_waiting_for_small_force);
+    depth = 0.0005;  // 0.75 N
+    double resumed = 0.0;
+    for (int i = 0;; ++i) {
+      ASSERT_LT(i, 5000) << "the hand eased off but output never resumed";
+      resumed = cycle();
+      if ((safe.last_write_events() & safety_waiting_for_small_force) == 0) break;
+      EXPECT_EQ(resumed, 0.0);
+    }
+    // That cycle began the ramp, which brings the contact force back in five cycles, no jolt.
+    EXPECT_NEAR(resumed, wall().force.x() / 5.0, 1e-9);
+    EXPECT_GE(wall().force.x(), -1.0);
+    for (int k = 2; k <= 5; ++k) {
       const double force = cycle();
-      EXPECT_LT(force, previous);
       EXPECT_NEAR(force, wall().force.x() * k / 5.0, 1e-9);
-      previous = force;
     }
   }
+
   EXPECT_EQ(safe.statistics().read_failures, 3u);
   EXPECT_EQ(safe.statistics().invalid_inputs, 3u);
   EXPECT_EQ(device.rejected_writes(), 0u);  // nothing non-finite ever reached the device

@@ -38,6 +38,9 @@ void SafetyOptions::validate() const {
     throw Error("safety options: deadline_tolerance must be finite and >= 0 (s)");
   }
   if (ramp_cycles < 0) throw Error("safety options: ramp_cycles must be >= 0");
+  if (std::isnan(onset_force) || onset_force < 0.0) {
+    throw Error("safety options: onset_force must be >= 0 (N; infinity for no wait)");
+  }
   if (index_button < -1 || index_button > 31) {
     throw Error("safety options: index_button must be -1 (none) or a bit index in [0, 31], not " +
                 std::to_string(index_button));
@@ -76,6 +79,7 @@ void SafeDevice::restart() noexcept {
   m_cycle_open = false;
   m_pending_miss = false;
   m_ramp_step = 0;
+  m_waiting_for_small_force = true;
   m_virtual_state.valid = false;
 }
 
@@ -181,6 +185,13 @@ bool SafeDevice::write(const Wrench& wrench) noexcept {
   const int output_dof = m_device.capabilities().output_dof;
   if (output_dof == 0) output.force.setZero();
   if (output_dof < 6) output.torque.setZero();
+  if (m_waiting_for_small_force) {
+    if (!(std::hypot(output.force.x(), output.force.y(), output.force.z()) <=
+          m_options.onset_force)) {
+      return send(Wrench{}, safety_waiting_for_small_force);
+    }
+    m_waiting_for_small_force = false;
+  }
   if (detail::clamp_magnitude(output.force, m_force_limit)) events |= safety_clamped_force;
   if (detail::clamp_magnitude(output.torque, m_torque_limit)) events |= safety_clamped_torque;
   if (m_ramp_step < m_options.ramp_cycles) {
@@ -199,6 +210,9 @@ bool SafeDevice::send(const Wrench& output, std::uint32_t events) noexcept {
                                            safety_zeroed_deadline_miss | safety_zeroed_indexing;
   if ((events & zeroing_events) != 0) {
     m_ramp_step = 0;
+    // A device that failed may come back anywhere, inside an object: wait for a small force.
+    // A missed deadline or an indexing pause leaves the pose continuous: only the ramp applies.
+    if ((events & safety_zeroed_read_failure) != 0) m_waiting_for_small_force = true;
     if ((events & ~safety_zeroed_indexing & zeroing_events) != 0) ++m_statistics.zeroed_writes;
   }
   if ((events & (safety_clamped_force | safety_clamped_torque)) != 0) {

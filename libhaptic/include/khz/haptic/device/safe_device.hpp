@@ -43,6 +43,13 @@ struct KHZ_HAPTIC_API SafetyOptions {
   /// After any write the layer zeroed (fault, miss, indexing), the next `ramp_cycles` writes are
   /// scaled by 1/N, 2/N, …, N/N so output resumes without a jolt. 0 or 1: resume at once.
   int ramp_cycles = 0;
+  /// "Wait for small force" (device N, ≥ 0; CHAI3D's waitForSmallForce): after open() and after
+  /// a failed or invalid read, output stays zero until the force asked for is at most this, and
+  /// only then resumes (through the ramp). A manipulandum that starts, or comes back from a
+  /// device fault, inside an object feels nothing until it has moved out far enough, instead of
+  /// a kick. Deadline misses and indexing keep the pose continuous and only ramp. Infinity
+  /// disables the wait.
+  double onset_force = 1.0;
   /// Bit index of the indexing (clutch) button; -1 disables workspace indexing.
   int index_button = -1;
   /// Index orientation too (true) or only position (false: orientation keeps following the
@@ -80,6 +87,8 @@ enum SafetyEvent : std::uint32_t {
   safety_zeroed_deadline_miss = 1u << 4,  ///< The previous cycle missed its deadline.
   safety_zeroed_indexing = 1u << 5,
   safety_ramping = 1u << 6,  ///< Scaled down by the ramp after a zeroed write.
+  /// Zero: waiting, after the start or a failed read, for the force to fall to onset_force.
+  safety_waiting_for_small_force = 1u << 7,
 };
 
 /// The layer between the haptic loop and a Device. Every cycle:
@@ -96,8 +105,8 @@ enum SafetyEvent : std::uint32_t {
 /// dropped for 3-DOF output devices). A cycle that ends late (end_cycle after deadline +
 /// tolerance) makes the *next* write send zero: its wrench was computed from a stale pose and the
 /// device held the previous output for too long. Output resumes by itself when reads succeed
-/// again, through the ramp if SafetyOptions::ramp_cycles > 1. Before the first good read, every
-/// write sends zero.
+/// again, once the force asked for is at most SafetyOptions::onset_force, and through the ramp if
+/// SafetyOptions::ramp_cycles > 1. Before the first good read, every write sends zero.
 ///
 /// Threading: the same as Device (read/write/begin_cycle/end_cycle from the haptic thread only,
 /// noexcept, no allocation). Settings and statistics are plain members: change or read them from
@@ -173,7 +182,8 @@ class KHZ_HAPTIC_API SafeDevice {
   double m_deadline = 0.0;
   bool m_cycle_open = false;
   bool m_pending_miss = false;
-  int m_ramp_step = 0;  // writes since the last zeroed one, capped at ramp_cycles
+  int m_ramp_step = 0;                    // writes since the last zeroed one, capped at ramp_cycles
+  bool m_waiting_for_small_force = true;  // since the start or the last failed read
 
   Wrench m_last_output;
   std::uint32_t m_last_events = 0;
