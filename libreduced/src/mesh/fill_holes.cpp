@@ -10,6 +10,7 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/utility.h>
 
+#include <algorithm>
 #include <iterator>
 #include <map>
 #include <string>
@@ -22,16 +23,24 @@ namespace {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 
-/// The loops of boundary edges, each in the direction its triangle traverses it: an edge (a, b)
-/// of a triangle is on the boundary when no triangle traverses (b, a). In an edge-manifold,
-/// consistently oriented mesh each boundary vertex starts one boundary edge, unless holes touch.
-/// @throws MeshError where two holes share a vertex (the loops would be ambiguous).
-std::vector<std::vector<int>> boundary_loops(const TriangleMesh& mesh) {
-  std::map<std::pair<int, int>, int> directed;  // (a, b) → how often a triangle traverses it
+/// Directed edge (a, b) → how many triangles traverse it, over the triangles with three
+/// distinct vertices.
+using DirectedEdges = std::map<std::pair<int, int>, int>;
+
+DirectedEdges directed_edges(const TriangleMesh& mesh) {
+  DirectedEdges directed;
   for (Eigen::Index t = 0; t < mesh.num_triangles(); ++t) {
     if (detail::has_repeated_vertex(mesh, t)) continue;
     for (int k = 0; k < 3; ++k) ++directed[{mesh.triangles(t, k), mesh.triangles(t, (k + 1) % 3)}];
   }
+  return directed;
+}
+
+/// The loops of boundary edges, each in the direction its triangle traverses it: an edge (a, b)
+/// of a triangle is on the boundary when no triangle traverses (b, a). In an edge-manifold,
+/// consistently oriented mesh each boundary vertex starts one boundary edge, unless holes touch.
+/// @throws MeshError where two holes share a vertex (the loops would be ambiguous).
+std::vector<std::vector<int>> boundary_loops(const DirectedEdges& directed) {
   std::map<int, int> next;  // boundary edge a → b, keyed by a
   for (const auto& [edge, count] : directed) {
     if (directed.contains({edge.second, edge.first})) continue;
@@ -76,13 +85,10 @@ HoleFilling fill_holes(TriangleMesh& mesh) {
         "fill_holes needs an edge-manifold, consistently oriented surface, but it is not "
         "consistently oriented (orient_consistently() first)");
   }
-  const std::vector<std::vector<int>> loops = boundary_loops(mesh);
+  const DirectedEdges directed = directed_edges(mesh);
+  const std::vector<std::vector<int>> loops = boundary_loops(directed);
   std::map<std::pair<int, int>, int> edges;  // undirected edge → triangles using it
-  for (Eigen::Index t = 0; t < mesh.num_triangles(); ++t) {
-    if (detail::has_repeated_vertex(mesh, t)) continue;
-    for (int k = 0; k < 3; ++k)
-      ++edges[undirected(mesh.triangles(t, k), mesh.triangles(t, (k + 1) % 3))];
-  }
+  for (const auto& [edge, count] : directed) edges[undirected(edge.first, edge.second)] += count;
   HoleFilling result;
   std::vector<Eigen::RowVector3i> added;
   for (const std::vector<int>& loop : loops) {
@@ -106,19 +112,21 @@ HoleFilling fill_holes(TriangleMesh& mesh) {
     }
     // A patch whose triangles would give an edge a third triangle (a chord of the loop that is
     // already an edge, as where holes nearly touch) would make the surface non-manifold.
-    std::map<std::pair<int, int>, int> with_patch = edges;
-    bool manifold = true;
+    std::map<std::pair<int, int>, int> patch_edges;  // undirected edge → patch triangles using it
     for (const auto& t : patch) {
       const int corners[3] = {loop[t.first], loop[t.second], loop[t.third]};
-      for (int k = 0; k < 3; ++k) {
-        manifold = manifold && ++with_patch[undirected(corners[k], corners[(k + 1) % 3])] <= 2;
-      }
+      for (int k = 0; k < 3; ++k) ++patch_edges[undirected(corners[k], corners[(k + 1) % 3])];
     }
+    const bool manifold =
+        std::all_of(patch_edges.begin(), patch_edges.end(), [&](const auto& entry) {
+          const auto existing = edges.find(entry.first);
+          return (existing == edges.end() ? 0 : existing->second) + entry.second <= 2;
+        });
     if (!manifold) {
       ++result.left_open;
       continue;
     }
-    edges = std::move(with_patch);
+    for (const auto& [edge, count] : patch_edges) edges[edge] += count;
     for (const auto& t : patch) {
       const int a = loop[t.first], b = loop[t.second], c = loop[t.third];
       added.push_back(same_direction ? Eigen::RowVector3i(a, c, b) : Eigen::RowVector3i(a, b, c));
