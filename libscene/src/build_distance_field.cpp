@@ -33,14 +33,12 @@ contact::DistanceGrid compute_distance_field(const reduced::TriangleMesh& surfac
                            "set \"fill_holes\": true on the object to close small holes, or "
                            "\"soup\": true in its \"field\" to sign the field by an offset "
                            "surface");
-    contact::DistanceGrid grid = contact::signed_distance_field(surface, options);
-    require_outside_boundary(grid);
-    return grid;
   }
   contact::PolygonSoupFieldOptions soup;
   soup.field = options;
   soup.offset = field.offset;
-  contact::DistanceGrid grid = contact::polygon_soup_field(surface, soup).field;
+  contact::DistanceGrid grid = field.soup ? contact::polygon_soup_field(surface, soup).field
+                                          : contact::signed_distance_field(surface, options);
   require_outside_boundary(grid);
   return grid;
 }
