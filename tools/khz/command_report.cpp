@@ -32,17 +32,17 @@ void report(const RunRequest& request) {
   scene::SceneRuntime& runtime = session.runtime();
   const std::vector<run::SweepSetting> settings =
       run::default_sweep(runtime.description().contact, run::tree_levels(runtime.prepared()));
-  constexpr std::size_t max_states = 2000;
   std::cout << "speed against error: " << settings.size() << " settings over the states in "
-            << "contact among the " << result.states.size() << " recorded (at most " << max_states
-            << ", evenly spaced)\n";
+            << "contact among the " << result.states.size() << " recorded (at most "
+            << run::default_sweep_states << ", evenly spaced)\n";
   ProgressBar bar(std::cerr, ::isatty(STDERR_FILENO) == 1);
   const InterruptRequest interrupt;
-  const std::vector<run::SweepResult> sweep = run::sweep_contact(
-      runtime, result.states, settings, max_states, [&](const reduced::Progress& progress) {
-        bar.update("replaying: " + std::string(progress.stage), progress);
-        return !interrupt.requested();
-      });
+  const std::vector<run::SweepResult> sweep =
+      run::sweep_contact(runtime, result.states, settings, run::default_sweep_states,
+                         [&](const reduced::Progress& progress) {
+                           bar.update("replaying: " + std::string(progress.stage), progress);
+                           return !interrupt.requested();
+                         });
   bar.clear();
   std::cout << "replayed " << sweep.front().states << " states in contact under each setting\n";
   run::ReportInput input;

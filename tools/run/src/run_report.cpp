@@ -57,7 +57,8 @@ void write_markdown(const std::filesystem::path& file, const ReportInput& input,
   if (!input.sweep.empty()) {
     out << "## Speed against error of the contact query\n\n"
         << "The recorded states in contact (" << input.sweep.front().states
-        << ", evenly spaced when there were more than 2000), queried again under each setting "
+        << ", evenly spaced when there were more than " << default_sweep_states
+        << "), queried again under each setting "
            "(temporal coherence off) and compared with the full traversal.\n\n"
         << "| setting | µs mean | µs p99 | nodes | force error (RMS) | force error (max) | "
            "torque error (RMS) |\n|---|---|---|---|---|---|---|\n";

@@ -51,6 +51,9 @@ struct SweepResult {
   std::size_t states = 0;
 };
 
+/// How many states sweep_contact() replays at most, by default (`khz report`).
+inline constexpr std::size_t default_sweep_states = 2000;
+
 /// Replays `states` (those where the reference finds contact for some hand; at most
 /// `max_states` of them, evenly spaced) through `runtime`'s World (haptic::World::probe(): every
 /// pair queried, nothing stepped) under each setting in turn, the first
@@ -63,7 +66,7 @@ struct SweepResult {
 std::vector<SweepResult> sweep_contact(scene::SceneRuntime& runtime,
                                        const std::vector<RecordedState>& states,
                                        const std::vector<SweepSetting>& settings,
-                                       std::size_t max_states = 2000,
+                                       std::size_t max_states = default_sweep_states,
                                        const reduced::ProgressCallback& progress = {});
 
 }  // namespace khz::run
