@@ -7,13 +7,17 @@
 
 namespace khz::haptic::detail {
 
-/// Scales `v` down to magnitude `limit` if it is longer, keeping its direction; returns whether it
-/// did. The magnitude is std::hypot's, a function of the three values alone: Eigen's
-/// stableNorm() of a Vector3d sums in an order that depends on the vector's address (it splits
-/// at the first SIMD-aligned coefficient), so the same wrench could be clamped or not depending
-/// on the caller's stack.
+/// |v| by std::hypot, a function of the three values alone: Eigen's stableNorm() of a Vector3d
+/// sums in an order that depends on the vector's address (it splits at the first SIMD-aligned
+/// coefficient), so a threshold test on it could pass or fail depending on the caller's stack.
+inline double magnitude(const Eigen::Vector3d& v) noexcept {
+  return std::hypot(v.x(), v.y(), v.z());
+}
+
+/// Scales `v` down to magnitude `limit` if it is longer (magnitude()), keeping its direction;
+/// returns whether it did.
 inline bool clamp_magnitude(Eigen::Vector3d& v, double limit) noexcept {
-  const double magnitude = std::hypot(v.x(), v.y(), v.z());
+  const double magnitude = detail::magnitude(v);
   if (magnitude <= limit) return false;
   v *= limit / magnitude;
   return true;

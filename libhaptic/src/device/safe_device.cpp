@@ -186,8 +186,7 @@ bool SafeDevice::write(const Wrench& wrench) noexcept {
   if (output_dof == 0) output.force.setZero();
   if (output_dof < 6) output.torque.setZero();
   if (m_waiting_for_small_force) {
-    if (!(std::hypot(output.force.x(), output.force.y(), output.force.z()) <=
-          m_options.onset_force)) {
+    if (!(detail::magnitude(output.force) <= m_options.onset_force)) {
       return send(Wrench{}, safety_waiting_for_small_force);
     }
     m_waiting_for_small_force = false;
