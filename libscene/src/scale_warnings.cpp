@@ -44,14 +44,17 @@ std::vector<PrepareWarning> scale_warnings(const PreparedScene& prepared) {
   for (std::size_t i = 0; i < prepared.objects.size(); ++i) {
     extents.push_back(object_extent(prepared.objects[i], descriptions[i]));
   }
+  // The smallest positive size (an object whose points all coincide has none to compare).
+  const auto smallest = std::min_element(extents.begin(), extents.end(), [](double a, double b) {
+    return a > 0.0 && (!(b > 0.0) || a < b);
+  });
+  const std::string units_hint =
+      "meshes are read in metres: set \"scale\" (e.g. 0.001 for millimetres) or \"size\" (its "
+      "longest side in metres)";
   std::vector<PrepareWarning> warnings;
-  const auto smallest = std::min_element(extents.begin(), extents.end());
   for (std::size_t i = 0; i < extents.size(); ++i) {
     const double extent = extents[i];
     if (!(extent > 0.0)) continue;
-    const std::string units_hint =
-        "meshes are read in metres: set \"scale\" (e.g. 0.001 for millimetres) or \"size\" (its "
-        "longest side in metres)";
     if (extent > max_plausible_extent || extent < min_plausible_extent) {
       warnings.push_back(
           {descriptions[i].name,
