@@ -87,6 +87,7 @@ struct BruteForce {
   Eigen::Vector3d torque = Eigen::Vector3d::Zero();  // about the grasp point
   Eigen::VectorXd reduced;                           // Σ U_sᵀ (force on point s, body frame)
   std::int64_t contacts = 0;
+  double deepest_penetration = 0.0;  // −min d over the points in contact
 };
 
 template <typename Field>
@@ -121,6 +122,7 @@ BruteForce brute_force(const PointTree& tree, const DeformablePointTree* deforma
     }
     weight += 1.0;
     ++sum.contacts;
+    sum.deepest_penetration = std::max(sum.deepest_penetration, -d);
   }
   const double scale = options.scaling_count / std::max(options.scaling_count, weight);
   sum.force *= scale;
@@ -170,6 +172,7 @@ TEST(ContactQuery, RigidTreeEqualsBruteForceOverEveryPointAgainstAnalyticShapes)
               ? brute_force(tree, nullptr, {}, box, frames, options, tree.num_levels() - 1)
               : brute_force(tree, nullptr, {}, blobs, frames, options, tree.num_levels() - 1);
       EXPECT_EQ(result.statistics.points_in_contact, expected.contacts);
+      EXPECT_NEAR(result.statistics.deepest_penetration, expected.deepest_penetration, 1e-12);
       EXPECT_TRUE(result.statistics.complete);
       expect_close(result.force, expected.force, 1e-12);
       expect_close(result.torque, expected.torque, 1e-12);
@@ -219,6 +222,7 @@ TEST(ContactQuery, DeformableTreeEqualsBruteForceWithReducedForces) {
         brute_force(tree.tree(), &tree, q, ball, frames, options, tree.tree().num_levels() - 1);
     const ContactResult& result = workspace.result();
     EXPECT_EQ(result.statistics.points_in_contact, expected.contacts);
+    EXPECT_NEAR(result.statistics.deepest_penetration, expected.deepest_penetration, 1e-12);
     expect_close(result.force, expected.force, 1e-12);
     expect_close(result.torque, expected.torque, 1e-12);
     expect_close(result.pointshell_reduced_force, expected.reduced, 1e-12);
@@ -570,6 +574,8 @@ TEST(ContactQuery, DegradationCompletesLevelsOrDoesNotStartThem) {
       const BruteForce expected =
           brute_force(tree, nullptr, {}, plane, frames, options, stats.deepest_level);
       EXPECT_EQ(stats.points_in_contact, expected.contacts);
+      EXPECT_NEAR(stats.deepest_penetration, expected.deepest_penetration, 1e-12);
+      EXPECT_GT(stats.deepest_penetration, 0.0);
       expect_close(workspace.result().force, expected.force, 1e-12);
     }
   }

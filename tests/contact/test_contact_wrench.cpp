@@ -22,6 +22,7 @@ ContactWrench pair_wrench(double scale, int level, bool complete, bool reset) {
   w.statistics.complete = complete;
   w.statistics.coherence_reset = reset;
   w.statistics.microseconds = 1.5 * level;
+  w.statistics.deepest_penetration = 1e-3 * level;
   return w;
 }
 
@@ -42,7 +43,8 @@ TEST(ContactWrench, AccumulateSumsEveryTermAndCombinesTheCounters) {
   EXPECT_EQ(sum.statistics.nodes_skipped, 14);
   EXPECT_EQ(sum.statistics.points_in_contact, 21);
   EXPECT_EQ(sum.statistics.deepest_level, 5);
-  EXPECT_FALSE(sum.statistics.complete);  // one pair stopped early
+  EXPECT_EQ(sum.statistics.deepest_penetration, 5e-3);  // the deeper pair's
+  EXPECT_FALSE(sum.statistics.complete);                // one pair stopped early
   EXPECT_TRUE(sum.statistics.coherence_reset);
   EXPECT_EQ(sum.statistics.microseconds, 10.5);
 }
@@ -52,6 +54,7 @@ TEST(ContactWrench, AnEmptySumOfNoPairsIsZeroCompleteAndBeforeTheFirstLevel) {
   EXPECT_EQ(none.force, Eigen::Vector3d::Zero());
   EXPECT_EQ(none.force_by_rotation, Eigen::Matrix3d::Zero());
   EXPECT_EQ(none.statistics.deepest_level, -1);
+  EXPECT_EQ(none.statistics.deepest_penetration, 0.0);
   EXPECT_TRUE(none.statistics.complete);
   // A ContactResult is a ContactWrench with the reduced forces: it accumulates as one.
   ContactResult result;

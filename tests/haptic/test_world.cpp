@@ -199,6 +199,59 @@ TEST(World, AHandPressingABallOnAFloorFeelsItWithoutPenetratingOrGainingEnergy) 
   EXPECT_LT(energy_peak_late, 1e-6) << "mean " << energy_late;
 }
 
+// World::metrics() is the hand's records in figures: the largest force jump and the peak as the
+// records give them, the deepest point as the geometry gives it, and the passivity observer as
+// the work of each rendered force over the device's next motion (identity mapping).
+TEST(World, MetricsAreTheHandsRecordsInFigures) {
+  const Eigen::Vector3d start(0.0, 0.0, ball_radius + 0.02), end(0.0, 0.0, ball_radius - 0.03);
+  ScriptedHand hand(start, end);
+  World world(ball_and_floor(start), {holding_body_0(hand)}, contact_options());
+  double largest_jump = 0.0, peak = 0.0, lowest = 0.0, energy = 0.0, deepest = 0.0;
+  CycleRecord previous;
+  for (int i = 0; i < 1500; ++i) {
+    const double now = i * 1e-3;
+    const CycleRecord r = world.cycle(now, now + 1e-3, [&] { return now + 1e-4; })[0];
+    if (i > 0) {
+      largest_jump = std::max(largest_jump, (r.contact.force - previous.contact.force).norm());
+      energy -=
+          previous.rendered.force.dot(r.manipulandum.position - previous.manipulandum.position);
+      lowest = std::min(lowest, energy);
+    }
+    // The observer also counts the rendered torque's work over the device's (tiny) turns.
+    EXPECT_NEAR(r.observed_energy, energy, 1e-9 * std::abs(energy) + 1e-12) << "cycle " << i;
+    peak = std::max(peak, r.contact.force.norm());
+    // The deepest point of the ball under the floor, from its centre (the pointshell's bottom
+    // point is within a point spacing of the sphere's, 1.4e-5 m deeper at most).
+    if (r.contact.statistics.points_in_contact > 0) {
+      deepest = std::max(deepest, ball_radius - world.bodies()[0].pose.translation().z());
+    }
+    EXPECT_EQ(r.penetration_voxels, 0.0) << "an analytic floor has no voxels";
+    previous = r;
+  }
+  const CycleMetricsSummary s = world.metrics(0);
+  EXPECT_EQ(s.cycles, 1500);
+  EXPECT_GT(peak, 1.0);
+  EXPECT_EQ(s.peak_contact_force, peak);
+  EXPECT_EQ(s.contact_force_jump.max, largest_jump);
+  EXPECT_NEAR(s.energy, energy, 1e-9 * std::abs(energy));
+  EXPECT_NEAR(s.lowest_energy, lowest, 1e-12);
+  EXPECT_GT(s.energy, 0.0) << "the hand pushed the ball into the floor";
+  EXPECT_LE(s.deepest_penetration, deepest);
+  EXPECT_GE(s.deepest_penetration, deepest - 2e-5);
+  EXPECT_GT(s.residual_force.count, 500);
+  // Still from when the device has settled on the floor: the ball rests to well under 1 µm.
+  EXPECT_GT(s.still_translation.count, 100);
+  EXPECT_LT(s.still_translation.max, 1e-6);
+  std::printf(
+      "force jump p50 %.3g p99 %.3g max %.3g N (peak %.3g N); residual p99 %.3g N; "
+      "still step max %.3g m; energy %.3g J, lowest %.3g J\n",
+      s.contact_force_jump.p50, s.contact_force_jump.p99, s.contact_force_jump.max,
+      s.peak_contact_force, s.residual_force.p99, s.still_translation.max, s.energy,
+      s.lowest_energy);
+  world.reset_metrics();
+  EXPECT_EQ(world.metrics(0).cycles, 0);
+}
+
 // Two hands: one holds the ball, the other a box it presses on. Each feels the one contact,
 // as action and reaction: opposite forces, and torques that differ by the lever between the two
 // grasp points; a fixed floor under the box is touched by neither (the box has no pointshell).

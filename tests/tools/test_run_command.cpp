@@ -58,6 +58,27 @@ TEST(KhzRun, WritesTheCycleLogFramesAndParaViewSeries) {
   EXPECT_GT(rows[150].force.y(), 0.0);
   EXPECT_EQ(rows.front().contacts, 0);
 
+  // The runtime's metrics in the summary: the largest contact-force jump printed is the one in
+  // the log (to the 3 significant digits printed), and the passivity observer ends at the log's
+  // last value.
+  double largest_jump = 0.0;
+  for (std::size_t k = 1; k < rows.size(); ++k) {
+    largest_jump = std::max(largest_jump, (rows[k].force - rows[k - 1].force).norm());
+  }
+  EXPECT_GT(largest_jump, 0.0);
+  const auto number_after = [&](const std::string& line_start, const std::string& word) {
+    const std::size_t line = run.output.find(line_start);
+    EXPECT_NE(line, std::string::npos) << run.output;
+    const std::size_t at = run.output.find(word, line);
+    return std::stod(run.output.substr(at + word.size()));
+  };
+  EXPECT_NEAR(number_after("  contact force", "max"), largest_jump, 5e-3 * largest_jump);
+  EXPECT_NEAR(number_after("passivity observer:", ":"), rows.back().energy,
+              1e-3 * std::abs(rows.back().energy) + 1e-12);
+  EXPECT_TRUE(has_line_with(run, {"rendered force", "p99", "% of the"}));
+  EXPECT_TRUE(has_line_with(run, {"equilibrium residual", "unsaturated cycles in contact"}));
+  EXPECT_TRUE(has_line_with(run, {"penetration: deepest", "voxels"}));
+
   // 20 frames per second over 0.3 s: cycles 0, 50, …, 250.
   for (int frame = 0; frame < 6; ++frame) {
     char name[32];
@@ -107,11 +128,14 @@ TEST(KhzReport, WritesTablesAndPlots) {
       << report;
   for (const char* text :
        {"| cycles | 300 at 1000 Hz", "| all levels (reference) |", "| level 0 |", "| level 1 |",
-        "| budget 50 us |", "![speed against error](speed_vs_error.png)",
-        "frames/frame_00000.png"}) {
+        "| budget 50 us |", "![speed against error](speed_vs_error.png)", "frames/frame_00000.png",
+        "## Smoothness, steadiness and passivity", "| contact force jump |",
+        "| equilibrium residual |", "Passivity observer", "![force jumps](jumps.png)",
+        "![passivity observer](energy.png)"}) {
     EXPECT_NE(report.find(text), std::string::npos) << text << "\n" << report;
   }
-  for (const char* plot : {"force.png", "torque.png", "cost.png", "speed_vs_error.png"}) {
+  for (const char* plot :
+       {"force.png", "torque.png", "cost.png", "jumps.png", "energy.png", "speed_vs_error.png"}) {
     const render::Image image = render::read_png(out / plot);
     EXPECT_GT(image.width(), 100) << plot;
   }

@@ -195,6 +195,10 @@ TEST(CycleLog, CsvRoundTripIsExactAndMalformedRowsNameTheirLine) {
   rows[1].complete = false;
   rows[1].orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()));
   rows[2].ok = false;
+  rows[2].penetration = 1.25e-4;
+  rows[2].penetration_voxels = 0.3;
+  rows[2].residual_force = 0.07;
+  rows[2].energy = -1.0 / 3.0;
   const std::filesystem::path file = test::scratch_file("cycles.csv");
   write_cycle_csv(rows, file);
   const std::vector<CycleRow> back = read_cycle_csv(file);
@@ -205,6 +209,27 @@ TEST(CycleLog, CsvRoundTripIsExactAndMalformedRowsNameTheirLine) {
   EXPECT_FALSE(back[1].complete);
   EXPECT_EQ(back[1].orientation.coeffs(), rows[1].orientation.coeffs());
   EXPECT_FALSE(back[2].ok);
+  EXPECT_EQ(back[2].penetration, 1.25e-4);
+  EXPECT_EQ(back[2].penetration_voxels, 0.3);
+  EXPECT_EQ(back[2].residual_force, 0.07);
+  EXPECT_EQ(back[2].energy, -1.0 / 3.0);
+
+  // A log written before the last four columns existed still reads, those fields zero.
+  const std::filesystem::path legacy = test::scratch_file("legacy_cycles.csv");
+  {
+    std::ifstream in(file);
+    std::ofstream out(legacy);
+    std::string line;
+    while (std::getline(in, line)) {
+      for (int column = 0; column < 4; ++column) line.erase(line.rfind(','));
+      out << line << "\n";
+    }
+  }
+  const std::vector<CycleRow> old = read_cycle_csv(legacy);
+  ASSERT_EQ(old.size(), rows.size());
+  EXPECT_EQ(old[1].force, rows[1].force);
+  EXPECT_FALSE(old[2].ok);
+  EXPECT_EQ(old[2].energy, 0.0);
 
   std::ofstream(file, std::ios::app) << "0.5,1,2\n";
   try {

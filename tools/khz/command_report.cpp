@@ -51,6 +51,7 @@ void report(const RunRequest& request) {
   input.rate_hz = runtime.description().loop.rate_hz;
   // The report's plots and tables follow the first hand; the sweep covers every hand.
   input.rows = std::move(result.rows.front());
+  input.metrics = runtime.world().metrics(0);
   input.sweep = sweep;
   input.frames = some_frames(result.frames, session.out(), 4);
   const run::ReportFiles files = run::write_report(session.out(), input);

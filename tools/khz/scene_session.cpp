@@ -214,6 +214,7 @@ std::vector<run::RunSummary> SceneSession::log_rows(RunResult& result) const {
       std::cout << "hand " << h << " (" << hand.object << "):\n";
     }
     summaries.push_back(run::summarize(result.rows[h], period));
+    summaries.back().metrics = m_runtime->world().metrics(static_cast<int>(h));
     run::print_summary(std::cout, summaries.back());
   }
   return summaries;

@@ -10,6 +10,7 @@ void ContactStatistics::accumulate(const ContactStatistics& other) noexcept {
   coherence_reset = coherence_reset || other.coherence_reset;
   points_in_contact += other.points_in_contact;
   deepest_level = std::max(deepest_level, other.deepest_level);
+  deepest_penetration = std::max(deepest_penetration, other.deepest_penetration);
   complete = complete && other.complete;
   microseconds += other.microseconds;
 }

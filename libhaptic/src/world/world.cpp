@@ -1,4 +1,5 @@
 #include <khz/contact/query/contact_query.hpp>
+#include <khz/haptic/coupling/coupling_wrench.hpp>
 #include <khz/haptic/world/world.hpp>
 
 #include <algorithm>
@@ -29,6 +30,23 @@ Eigen::Index field_dimension(const Body& body) noexcept {
   return state != nullptr ? (*state)->dimension() : 0;
 }
 
+/// The grid spacing penetration is counted in (m): a grid's, the finest domain's of a deformed
+/// field; 0 for analytic fields, which have none.
+double voxel_size(const Body& body) noexcept {
+  if (const auto* grid = std::get_if<const contact::DistanceGrid*>(&body.field)) {
+    return (*grid)->geometry().spacing;
+  }
+  if (auto* const* state = std::get_if<contact::DeformedFieldState*>(&body.field)) {
+    const contact::DeformedDistanceField& field = (*state)->field();
+    double finest = field.field(0).geometry().spacing;
+    for (Eigen::Index domain = 1; domain < field.num_domains(); ++domain) {
+      finest = std::min(finest, field.field(domain).geometry().spacing);
+    }
+    return finest;
+  }
+  return 0.0;
+}
+
 }  // namespace
 
 struct World::Data {
@@ -39,10 +57,13 @@ struct World::Data {
     Eigen::Vector3d grasp_point = Eigen::Vector3d::Zero();  // where the body was placed (world)
     contact::ContactWrench wrench;                          // Σ over the hand's pairs
     bool contact_ok = true;
-    Wrench rendered;  // zero unless the hand's whole chain succeeds
+    Wrench rendered;                  // zero unless the hand's whole chain succeeds
+    double penetration_voxels = 0.0;  // deepest over the hand's pairs with a grid
+    CycleMetrics metrics;
   };
   struct PairState {
     std::unique_ptr<contact::ContactWorkspace> workspace;
+    double voxel = 0.0;  // the field's grid spacing (m), 0 for an analytic field
   };
 
   std::vector<Body> bodies;
@@ -176,8 +197,15 @@ World::World(std::vector<Body> bodies, std::vector<Hand> hands,
     Pose start;
     start.orientation = Eigen::Quaterniond(body.pose.linear());
     start.position = body.pose * hand.grasp_in_body;
-    d.hands.push_back(Data::HandState{
-        hand, VirtualCoupling(hand.coupling, start), {}, start.position, {}, true, {}});
+    d.hands.push_back(Data::HandState{hand,
+                                      VirtualCoupling(hand.coupling, start),
+                                      {},
+                                      start.position,
+                                      {},
+                                      true,
+                                      {},
+                                      0.0,
+                                      CycleMetrics(hand.metrics)});
   }
   d.records.resize(d.hands.size());
 
@@ -213,7 +241,8 @@ World::World(std::vector<Body> bodies, std::vector<Hand> hands,
         const WorldPair pair{pointshell, field, holder_index, applies};
         d.pair_states.push_back({make_workspace(d.bodies[static_cast<std::size_t>(pointshell)],
                                                 d.bodies[static_cast<std::size_t>(field)],
-                                                d.pair_options(options, pair))});
+                                                d.pair_options(options, pair)),
+                                 voxel_size(d.bodies[static_cast<std::size_t>(field)])});
         d.pairs.push_back(pair);
         applies = false;
       }
@@ -257,12 +286,19 @@ void World::step(double now) noexcept {
     CycleRecord& r = d.records[h];
     r.contact_valid = hand.contact_ok;
     r.contact = hand.wrench;
+    r.penetration_voxels = hand.penetration_voxels;
     hand.rendered = Wrench{};
     if (!r.device_valid || !r.contact_valid) continue;
+    const CouplingWrench at_query = coupling_wrench(
+        hand.device_state.pose, hand.coupling.simulation_pose(), hand.coupling.options().springs());
     const CouplingStep step = hand.coupling.step(hand.device_state.pose, hand.wrench);
     r.coupling_valid = step.valid;
     r.degenerate_dimension = step.degenerate_dimension;
-    if (step.valid) hand.rendered = step.rendered;
+    r.coupling_saturated = step.coupling_saturated;
+    if (!step.valid) continue;
+    hand.rendered = step.rendered;
+    r.residual.force = hand.wrench.force + at_query.force;
+    r.residual.torque = hand.wrench.torque + at_query.torque;
   }
   // 5. Each reduced body, once, under its summed reduced force.
   bool integrators_ok = true;
@@ -284,6 +320,7 @@ void World::step(double now) noexcept {
     r.simulation = hand.coupling.simulation_pose();
     hand.hand.device->write(hand.rendered);
     r.rendered = hand.hand.device->last_output();
+    r.observed_energy = hand.metrics.record(r, hand.hand.device->mapping());
   }
 }
 
@@ -299,6 +336,7 @@ bool World::query_pairs() noexcept {
   for (Data::HandState& hand : d.hands) {
     hand.wrench = contact::ContactWrench{};
     hand.contact_ok = true;
+    hand.penetration_voxels = 0.0;
   }
   for (Eigen::VectorXd& force : d.reduced_forces) force.setZero();
   bool all_ok = true;
@@ -312,6 +350,10 @@ bool World::query_pairs() noexcept {
     }
     const contact::ContactResult& result = d.pair_states[p].workspace->result();
     hand.wrench.accumulate(result);
+    if (d.pair_states[p].voxel > 0.0) {
+      hand.penetration_voxels = std::max(
+          hand.penetration_voxels, result.statistics.deepest_penetration / d.pair_states[p].voxel);
+    }
     if (!pair.applies_reduced_forces) continue;
     Eigen::VectorXd& on_pointshell = d.reduced_forces[static_cast<std::size_t>(pair.pointshell)];
     if (on_pointshell.size() > 0) on_pointshell += result.pointshell_reduced_force;
@@ -348,6 +390,12 @@ const Eigen::VectorXd& World::reduced_force(int index) const noexcept {
 }
 const contact::ContactWrench& World::wrench(int index) const noexcept {
   return m_data->hands[static_cast<std::size_t>(index)].wrench;
+}
+CycleMetricsSummary World::metrics(int index) const noexcept {
+  return m_data->hands[static_cast<std::size_t>(index)].metrics.summary();
+}
+void World::reset_metrics() noexcept {
+  for (Data::HandState& hand : m_data->hands) hand.metrics.clear();
 }
 
 void World::reset_contact() noexcept {

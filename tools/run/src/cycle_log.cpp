@@ -11,7 +11,9 @@
 namespace khz::run {
 namespace {
 
-constexpr int column_count = 31;
+constexpr int column_count = 35;
+/// Logs written before the penetration, residual and energy columns have the first 31.
+constexpr int legacy_column_count = 31;
 
 /// The values of a row in header order (booleans and counts as doubles: exact below 2⁵³).
 std::array<double, column_count> columns(const CycleRow& row) {
@@ -46,7 +48,11 @@ std::array<double, column_count> columns(const CycleRow& row) {
           row.orientation.x(),
           row.orientation.y(),
           row.orientation.z(),
-          d(row.ok)};
+          d(row.ok),
+          row.penetration,
+          row.penetration_voxels,
+          row.residual_force,
+          row.energy};
 }
 
 CycleRow from_columns(const std::array<double, column_count>& c) {
@@ -68,6 +74,10 @@ CycleRow from_columns(const std::array<double, column_count>& c) {
   row.simulation = {c[23], c[24], c[25]};
   row.orientation = Eigen::Quaterniond(c[26], c[27], c[28], c[29]);
   row.ok = c[30] != 0.0;
+  row.penetration = c[31];
+  row.penetration_voxels = c[32];
+  row.residual_force = c[33];
+  row.energy = c[34];
   return row;
 }
 
@@ -93,15 +103,27 @@ CycleRow CycleRow::from(const haptic::CycleRecord& record, double cycle_us) noex
   row.orientation = record.simulation.orientation;
   row.ok =
       record.device_valid && record.contact_valid && record.coupling_valid && record.integrators_ok;
+  row.penetration = s.deepest_penetration;
+  row.penetration_voxels = record.penetration_voxels;
+  row.residual_force = record.residual.force.norm();
+  row.energy = record.observed_energy;
   return row;
 }
 
-std::string cycle_csv_header() {
+namespace {
+
+std::string legacy_csv_header() {
   return "time,force_x,force_y,force_z,torque_x,torque_y,torque_z,rendered_force_x,"
          "rendered_force_y,rendered_force_z,rendered_torque_x,rendered_torque_y,rendered_torque_z,"
          "nodes,skipped,contacts,level,complete,query_us,cycle_us,manipulandum_x,manipulandum_y,"
          "manipulandum_z,simulation_x,simulation_y,simulation_z,orientation_w,orientation_x,"
          "orientation_y,orientation_z,ok";
+}
+
+}  // namespace
+
+std::string cycle_csv_header() {
+  return legacy_csv_header() + ",penetration,penetration_voxels,residual_force,energy";
 }
 
 void write_cycle_csv(const std::vector<CycleRow>& rows, const std::filesystem::path& file) {
@@ -127,9 +149,10 @@ std::vector<CycleRow> read_cycle_csv(const std::filesystem::path& file) {
   if (!in) throw reduced::IoError("cannot read " + file.string());
   const std::string source = file.string();
   std::string line;
-  if (!std::getline(in, line) || line != cycle_csv_header()) {
+  if (!std::getline(in, line) || (line != cycle_csv_header() && line != legacy_csv_header())) {
     throw reduced::ParseError::at_line(source, 1, "expected the header of a khz run cycle log");
   }
+  const int columns_here = line == cycle_csv_header() ? column_count : legacy_column_count;
   std::vector<CycleRow> rows;
   std::int64_t line_number = 1;
   while (std::getline(in, line)) {
@@ -139,18 +162,19 @@ std::vector<CycleRow> read_cycle_csv(const std::filesystem::path& file) {
     const char* p = line.data();
     const char* const end = line.data() + line.size();
     int count = 0;
-    for (; count < column_count; ++count) {
+    for (; count < columns_here; ++count) {
       const auto [next, error] = std::from_chars(p, end, values[static_cast<std::size_t>(count)]);
       if (error != std::errc()) break;
       p = next;
-      if (count < column_count - 1) {
+      if (count < columns_here - 1) {
         if (p == end || *p != ',') break;
         ++p;
       }
     }
-    if (count != column_count || p != end) {
-      throw reduced::ParseError::at_line(source, line_number,
-                                         "expected 31 comma-separated numbers (see the header)");
+    if (count != columns_here || p != end) {
+      throw reduced::ParseError::at_line(
+          source, line_number,
+          "expected " + std::to_string(columns_here) + " comma-separated numbers (see the header)");
     }
     rows.push_back(from_columns(values));
   }

@@ -20,6 +20,7 @@ RealtimeRun run_scene_realtime(scene::SceneRuntime& runtime, double duration,
   haptic::HapticLoop loop(options);
   runtime.open_devices();
   haptic::World& world = runtime.world();
+  world.reset_metrics();  // the run's own figures
   using Clock = std::chrono::steady_clock;
   loop.start([&](const haptic::CycleClock& clock) {
     if (run.rows.front().size() == cycles) {

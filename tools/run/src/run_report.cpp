@@ -26,6 +26,52 @@ plot::Series over_time(const std::vector<CycleRow>& rows, std::string label, ren
   return series;
 }
 
+/// |value(row k) − value(row k−1)| over time, from the second row.
+plot::Series jumps_over_time(const std::vector<CycleRow>& rows, std::string label,
+                             render::Color color, Eigen::Vector3d (*value)(const CycleRow&)) {
+  plot::Series series{std::move(label), {}, {}, color, false};
+  for (std::size_t k = 1; k < rows.size(); ++k) {
+    series.x.push_back(rows[k].time);
+    series.y.push_back((value(rows[k]) - value(rows[k - 1])).norm());
+  }
+  return series;
+}
+
+/// The metrics section: a table of the jumps, the still hand's jitter and the residual, then
+/// penetration and the passivity observer.
+void write_metrics(std::ostream& out, const haptic::CycleMetricsSummary& m,
+                   const ReportFiles& files) {
+  const auto row = [&](const char* name, const haptic::Quantiles& q, double scale, const char* unit,
+                       double peak) {
+    out << "| " << name << " | " << format("%.3g", scale * q.p50) << " | "
+        << format("%.3g", scale * q.p99) << " | " << format("%.3g", scale * q.max) << " " << unit
+        << " | " << (peak > 0.0 ? format("%.1f %%", percent_of(q.p99, peak)) : "–") << " | "
+        << q.count << " |\n";
+  };
+  out << "## Smoothness, steadiness and passivity\n\n"
+      << "Computed by the runtime every cycle (haptic::CycleMetrics). Jumps are between "
+         "consecutive cycles; the still hand's figures count the cycles after the manipulandum "
+         "had been still for "
+      << format("%.2g", haptic::CycleMetricsOptions{}.settle_time)
+      << " s; the residual |F_contact + F_VC| counts cycles in contact with the coupling "
+         "unsaturated.\n\n"
+      << "| figure | p50 | p99 | max | p99 / peak | cycles |\n|---|---|---|---|---|---|\n";
+  row("contact force jump", m.contact_force_jump, 1.0, "N", m.peak_contact_force);
+  row("rendered force jump", m.rendered_force_jump, 1.0, "N", m.peak_rendered_force);
+  row("contact torque jump", m.contact_torque_jump, 1.0, "N m", m.peak_contact_torque);
+  row("rendered torque jump", m.rendered_torque_jump, 1.0, "N m", m.peak_rendered_torque);
+  row("still hand: simulation step", m.still_translation, 1e6, "µm", 0.0);
+  row("still hand: simulation turn", m.still_rotation, 1.0, "rad", 0.0);
+  row("equilibrium residual", m.residual_force, 1.0, "N", m.peak_contact_force);
+  out << "\nDeepest penetration: " << format("%.3g", 1e3 * m.deepest_penetration) << " mm ("
+      << format("%.2f", m.deepest_penetration_voxels) << " voxels). Passivity observer "
+      << "(Hannaford & Ryu): " << format("%.4g", m.energy) << " J at the end, lowest "
+      << format("%.4g", m.lowest_energy) << " J"
+      << (m.lowest_energy < 0.0 ? " — **the simulation gave energy to the hand**" : "") << ".\n\n"
+      << "![force jumps](" << files.jump_plot.filename().string() << ")\n\n"
+      << "![passivity observer](" << files.energy_plot.filename().string() << ")\n\n";
+}
+
 void write_markdown(const std::filesystem::path& file, const ReportInput& input,
                     const RunSummary& s, const ReportFiles& files) {
   std::ofstream out(file);
@@ -54,6 +100,7 @@ void write_markdown(const std::filesystem::path& file, const ReportInput& input,
       << "![force](" << files.force_plot.filename().string() << ")\n\n"
       << "![torque](" << files.torque_plot.filename().string() << ")\n\n"
       << "![cost per cycle](" << files.cost_plot.filename().string() << ")\n\n";
+  write_metrics(out, input.metrics, files);
   if (!input.sweep.empty()) {
     out << "## Speed against error of the contact query\n\n"
         << "The recorded states in contact (" << input.sweep.front().states
@@ -89,6 +136,8 @@ ReportFiles write_report(const std::filesystem::path& directory, const ReportInp
                     directory / "force.png",
                     directory / "torque.png",
                     directory / "cost.png",
+                    directory / "jumps.png",
+                    directory / "energy.png",
                     {}};
   const std::vector<CycleRow>& rows = input.rows;
   plot::write_line_plot(
@@ -105,6 +154,14 @@ ReportFiles write_report(const std::filesystem::path& directory, const ReportInp
       files.cost_plot, {"Cost per cycle", "time (s)", "microseconds"},
       {over_time(rows, "whole cycle", blue, [](const CycleRow& r) { return r.cycle_us; }),
        over_time(rows, "contact query", orange, [](const CycleRow& r) { return r.query_us; })});
+  plot::write_line_plot(
+      files.jump_plot, {"Force jumps between cycles", "time (s)", "|F(k) - F(k-1)| (N)"},
+      {jumps_over_time(rows, "contact", blue, [](const CycleRow& r) { return r.force; }),
+       jumps_over_time(rows, "rendered", orange,
+                       [](const CycleRow& r) { return r.rendered_force; })});
+  plot::write_line_plot(
+      files.energy_plot, {"Passivity observer: energy the hand put in", "time (s)", "energy (J)"},
+      {over_time(rows, "observed energy", blue, [](const CycleRow& r) { return r.energy; })});
   if (!input.sweep.empty()) {
     files.speed_plot = directory / "speed_vs_error.png";
     plot::Series levels{"fixed levels", {}, {}, blue, true};

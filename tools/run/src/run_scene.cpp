@@ -36,6 +36,7 @@ HandRows run_scene(scene::SceneRuntime& runtime, const RunOptions& options) {
 
   OpenDevices open(runtime);
   haptic::World& world = runtime.world();
+  world.reset_metrics();  // the run's own figures
   using Clock = std::chrono::steady_clock;
   for (std::size_t i = 0; i < cycles; ++i) {
     const double now = static_cast<double>(i) * period;

@@ -81,6 +81,48 @@ void print_summary(std::ostream& out, const RunSummary& s) {
                 s.max_rendered_force, s.max_torque);
   out << line;
   out << "failed cycles: " << s.failed_cycles << (s.finite ? "" : "; NON-FINITE VALUES") << "\n";
+  print_metrics(out, s.metrics);
+}
+
+double percent_of(double value, double peak) { return peak > 0.0 ? 100.0 * value / peak : 0.0; }
+
+void print_metrics(std::ostream& out, const haptic::CycleMetricsSummary& m) {
+  char line[320];
+  const auto jump_line = [&](const char* name, const haptic::Quantiles& jump, double peak,
+                             const char* unit) {
+    std::snprintf(line, sizeof line,
+                  "  %-16s p50 %9.3g  p99 %9.3g  max %9.3g %-4s (p99 %5.1f %% of the %.3g peak)\n",
+                  name, jump.p50, jump.p99, jump.max, unit, percent_of(jump.p99, peak), peak);
+    out << line;
+  };
+  out << "jumps between cycles:\n";
+  jump_line("contact force", m.contact_force_jump, m.peak_contact_force, "N");
+  jump_line("rendered force", m.rendered_force_jump, m.peak_rendered_force, "N");
+  jump_line("contact torque", m.contact_torque_jump, m.peak_contact_torque, "N m");
+  jump_line("rendered torque", m.rendered_torque_jump, m.peak_rendered_torque, "N m");
+  if (m.still_translation.count > 0) {
+    std::snprintf(line, sizeof line,
+                  "still hand (%lld cycles): simulation moves p99 %.3g um, max %.3g um; turns "
+                  "p99 %.3g rad, max %.3g rad per cycle\n",
+                  static_cast<long long>(m.still_translation.count), 1e6 * m.still_translation.p99,
+                  1e6 * m.still_translation.max, m.still_rotation.p99, m.still_rotation.max);
+  } else {
+    std::snprintf(line, sizeof line, "still hand: never held still long enough to tell\n");
+  }
+  out << line;
+  std::snprintf(line, sizeof line,
+                "equilibrium residual (%lld unsaturated cycles in contact): p50 %.3g  p99 %.3g  "
+                "max %.3g N\n",
+                static_cast<long long>(m.residual_force.count), m.residual_force.p50,
+                m.residual_force.p99, m.residual_force.max);
+  out << line;
+  std::snprintf(line, sizeof line, "penetration: deepest %.3g mm, %.2f voxels\n",
+                1e3 * m.deepest_penetration, m.deepest_penetration_voxels);
+  out << line;
+  std::snprintf(line, sizeof line, "passivity observer: %.4g J at the end, lowest %.4g J%s\n",
+                m.energy, m.lowest_energy,
+                m.lowest_energy < 0.0 ? " (the simulation gave energy to the hand)" : "");
+  out << line;
 }
 
 }  // namespace khz::run

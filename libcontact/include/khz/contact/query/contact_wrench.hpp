@@ -24,14 +24,17 @@ struct KHZ_CONTACT_API ContactStatistics {
   std::int64_t points_in_contact = 0;
   /// The deepest tree level rendered (−1 before the first query).
   int deepest_level = -1;
+  /// How far the deepest point in contact is inside the field: −min d over the points in
+  /// contact (m, distance-field units); 0 without contact.
+  double deepest_penetration = 0.0;
   /// False when graceful degradation stopped before a level contact reached.
   bool complete = true;
   /// Wall time of the query (µs, steady clock).
   double microseconds = 0.0;
 
   /// Combines another query's counters into these, as for queries run one after the other in
-  /// one cycle: counts and µs add, the deepest level is the larger, complete only if both are,
-  /// reset if either reset.
+  /// one cycle: counts and µs add, the deepest level and penetration are the larger, complete only
+  /// if both are, reset if either reset.
   void accumulate(const ContactStatistics& other) noexcept;
 };
 

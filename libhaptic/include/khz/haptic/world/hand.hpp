@@ -4,6 +4,7 @@
 #include <khz/contact/query/contact_options.hpp>
 #include <khz/haptic/coupling/coupling_options.hpp>
 #include <khz/haptic/device/safe_device.hpp>
+#include <khz/haptic/world/cycle_metrics.hpp>
 
 #include <Eigen/Core>
 
@@ -28,6 +29,8 @@ struct Hand {
   /// The role the held body touches with where both would do (it has a pointshell and a field,
   /// and so has the other body): unset, the World's ContactOptions::haptic_object.
   std::optional<contact::HapticObject> role;
+  /// When the hand's manipulandum counts as still, for its jitter figures (World::metrics()).
+  CycleMetricsOptions metrics;
 };
 
 }  // namespace khz::haptic

@@ -7,6 +7,7 @@
 #include <khz/haptic/coupling/virtual_coupling.hpp>
 #include <khz/haptic/export.hpp>
 #include <khz/haptic/world/body.hpp>
+#include <khz/haptic/world/cycle_metrics.hpp>
 #include <khz/haptic/world/cycle_record.hpp>
 #include <khz/haptic/world/hand.hpp>
 
@@ -46,7 +47,7 @@ struct WorldPair {
 ///   5. each reduced body is stepped once under the sum of its reduced contact forces over all
 ///      its pairs (§3.6.1), and a deformed field is then update()d to its new q (§3.12);
 ///   6. each device is written the coupling's rendered wrench (zero when anything in its chain
-///      failed), and its watchdog closes the cycle.
+///      failed), the hand's CycleMetrics records the cycle, and its watchdog closes the cycle.
 ///
 /// Pairs: for every held body h and every other body b, one pair when one's pointshell can meet
 /// the other's field (h touches with its Hand::role, or else ContactOptions::haptic_object, when
@@ -104,6 +105,12 @@ class KHZ_HAPTIC_API World {
   /// Hand `index`'s contact wrench of the last cycle or probe(): the sum over its pairs, about
   /// its grasp point (force N, torque N·m, gradients per m and per rad).
   const contact::ContactWrench& wrench(int index) const noexcept;
+  /// Hand `index`'s smoothness, jitter, residual, penetration and energy figures over the cycles
+  /// since construction or reset_metrics() (each cycle() records into its hand's CycleMetrics;
+  /// probe() does not).
+  CycleMetricsSummary metrics(int index) const noexcept;
+  /// Forgets every hand's metrics (the passivity observers restart at 0).
+  void reset_metrics() noexcept;
 
   /// Contact as it would be with every held body at its hand's grasp frame in `grasps` (one
   /// pose per hand, world frame) and every other body as it is (reduced ones at their current

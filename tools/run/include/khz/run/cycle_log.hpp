@@ -32,7 +32,11 @@ struct CycleRow {
   Eigen::Vector3d manipulandum = Eigen::Vector3d::Zero();  ///< Device grasp point, world (m).
   Eigen::Vector3d simulation = Eigen::Vector3d::Zero();    ///< Held object's grasp point (m).
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< Held object's.
-  bool ok = true;  ///< Device read, query, coupling and every time step succeeded.
+  bool ok = true;                   ///< Device read, query, coupling and every time step succeeded.
+  double penetration = 0.0;         ///< Deepest point in contact (m; ContactStatistics).
+  double penetration_voxels = 0.0;  ///< The same in voxels (CycleRecord::penetration_voxels).
+  double residual_force = 0.0;      ///< |F_contact + F_VC| at the queried pose (N).
+  double energy = 0.0;              ///< The passivity observer after the cycle (J, device).
 
   /// The row of a cycle's record, with the cycle's measured cost.
   static CycleRow from(const haptic::CycleRecord& record, double cycle_us) noexcept;
@@ -40,7 +44,8 @@ struct CycleRow {
 
 /// The CSV header line `khz run` writes (without newline): time, force_x … torque_z,
 /// rendered_force_x … rendered_torque_z, nodes, skipped, contacts, level, complete, query_us,
-/// cycle_us, manipulandum_x … z, simulation_x … z, orientation_w, _x, _y, _z, ok.
+/// cycle_us, manipulandum_x … z, simulation_x … z, orientation_w, _x, _y, _z, ok, penetration,
+/// penetration_voxels, residual_force, energy.
 std::string cycle_csv_header();
 
 /// Writes the rows as CSV (header first; each number as the shortest text that reads back to
@@ -49,8 +54,10 @@ std::string cycle_csv_header();
 void write_cycle_csv(const std::vector<CycleRow>& rows, const std::filesystem::path& file);
 
 /// Reads a file write_cycle_csv() wrote.
+/// Logs of earlier versions, without the last four columns, read with those fields zero.
 /// @throws reduced::IoError if it cannot be read; reduced::ParseError (file:line) if the
-///         header is not cycle_csv_header() or a row does not have its columns as numbers.
+///         header is not cycle_csv_header() (or the earlier one) or a row does not have its
+///         columns as numbers.
 std::vector<CycleRow> read_cycle_csv(const std::filesystem::path& file);
 
 }  // namespace khz::run

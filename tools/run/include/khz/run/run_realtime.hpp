@@ -26,6 +26,7 @@ struct RealtimeRun {
 /// devices. The cycle records its row into storage reserved beforehand, so the loop thread
 /// allocates nothing; the calling thread sleeps until the end. Each cycle's time is its scheduled
 /// start on the loop's clock, and the watchdog gets that start plus the cycle's measured work.
+/// The World's metrics are reset when the devices open, as in run_scene().
 /// @throws reduced::Error if there is no duration, the loop stopped on an error, or as the
 ///         device's open().
 RealtimeRun run_scene_realtime(scene::SceneRuntime& runtime, double duration,

@@ -1,6 +1,7 @@
 #pragma once
-// The report `khz report` writes: Markdown with the run's figures and the contact query's
-// speed against error, and PNG plots of force, torque, per-cycle cost and speed against error.
+// The report `khz report` writes: Markdown with the run's figures, its smoothness, steadiness
+// and passivity, and the contact query's speed against error, and PNG plots of force, torque,
+// force jumps, the passivity observer, per-cycle cost and speed against error.
 
 #include <khz/run/contact_sweep.hpp>
 #include <khz/run/cycle_log.hpp>
@@ -18,6 +19,8 @@ struct ReportInput {
   std::string description;  ///< The scene's description text.
   double rate_hz = 1000.0;  ///< The loop's rate.
   std::vector<CycleRow> rows;
+  /// The runtime's figures for the same hand (haptic::World::metrics() after the run).
+  haptic::CycleMetricsSummary metrics;
   std::vector<SweepResult> sweep;  ///< First entry: the reference (may be empty: no contact).
   /// Frame pictures to show, relative to the report's directory.
   std::vector<std::filesystem::path> frames;
@@ -29,7 +32,11 @@ struct ReportFiles {
   std::filesystem::path force_plot;   ///< force.png: |F| contact and rendered, over time.
   std::filesystem::path torque_plot;  ///< torque.png: |T| over time.
   std::filesystem::path cost_plot;    ///< cost.png: µs per cycle and per query over time.
-  std::filesystem::path speed_plot;   ///< speed_vs_error.png (only with a sweep).
+  /// jumps.png: |F_k − F_{k−1}|, contact and rendered, over time (chatter).
+  std::filesystem::path jump_plot;
+  /// energy.png: the passivity observer over time (below zero: energy given to the hand).
+  std::filesystem::path energy_plot;
+  std::filesystem::path speed_plot;  ///< speed_vs_error.png (only with a sweep).
 };
 
 /// Writes report.md and the plots into `directory` (created if needed).

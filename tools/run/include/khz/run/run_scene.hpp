@@ -40,6 +40,8 @@ using HandRows = std::vector<std::vector<CycleRow>>;
 /// round-off). The exception is degradation by time budget
 /// (contact.degradation.mode time_budget), whose level of detail follows the measured cost.
 /// The devices are closed at the end (also on throw).
+/// The World's metrics are reset when the devices open: afterwards world().metrics(h) is
+/// hand h's figures over this run.
 /// @returns one row per hand and cycle (each hand's cycle_us is the whole cycle's).
 /// @throws reduced::Error if the duration is 0 and the device gives none (null and hardware
 ///         devices: set loop.duration), or as the device's open().

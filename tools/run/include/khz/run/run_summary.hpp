@@ -1,6 +1,7 @@
 #pragma once
 // The figures of a run that `khz run` prints and `khz report` tabulates.
 
+#include <khz/haptic/world/cycle_metrics.hpp>
 #include <khz/run/cycle_log.hpp>
 
 #include <cstdint>
@@ -37,12 +38,21 @@ struct RunSummary {
   double max_torque = 0.0;             ///< Largest |contact torque| (N·m).
   double max_rendered_force = 0.0;     ///< Largest |rendered force| (N).
   bool finite = true;                  ///< Every force, torque and pose is finite.
+  /// The runtime's smoothness, jitter, residual, penetration and energy figures of the hand
+  /// (haptic::World::metrics(), set by the caller: rows do not carry them all).
+  haptic::CycleMetricsSummary metrics;
 };
 
 /// The summary of a run's rows (empty rows give the defaults); `period` is 1 / rate (s).
 RunSummary summarize(const std::vector<CycleRow>& rows, double period);
 
-/// Prints the summary as a few aligned lines (what `khz run` ends with).
+/// Prints the summary as a few aligned lines (what `khz run` ends with), the metrics included.
 void print_summary(std::ostream& out, const RunSummary& summary);
+
+/// 100 · value / peak (%), 0 when the peak is 0.
+double percent_of(double value, double peak);
+
+/// Prints the runtime's metrics as a few lines (part of print_summary()).
+void print_metrics(std::ostream& out, const haptic::CycleMetricsSummary& metrics);
 
 }  // namespace khz::run

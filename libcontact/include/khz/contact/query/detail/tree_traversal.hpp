@@ -339,6 +339,7 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
         sums.add(x - frames.grasp_point, d, normal, gradient, weight * stiffness);
         sums.weight += weight;
         ++stats.points_in_contact;
+        stats.deepest_penetration = std::max(stats.deepest_penetration, -d);
         const Eigen::Vector3d f = weight * stiffness * d * normal;  // on the field object, world
         if constexpr (Points::deformable) {
           points.add_reduced_force(s, rotation_p.transpose() * -f, ws.m_contact_reduced_force);
