@@ -581,6 +581,46 @@ TEST(ContactQuery, DegradationCompletesLevelsOrDoesNotStartThem) {
   }
 }
 
+// The planner counts only the queued nodes temporal coherence will visit. The sphere comes down
+// onto a plane slowly; a threshold 40 % above the most any coherent query visits on the way (the
+// cold threshold is 80 % of it) lets every query render every level, as without degradation.
+// Counting the queued nodes coherence skips too would predict several times that and cut.
+TEST(ContactQuery, DegradationCountsOnlyTheNodesCoherenceWillVisit) {
+  const PointTree& tree = fixture().sphere;
+  const ImplicitShape plane = ground();
+  ContactOptions coherent;
+  coherent.coherence.enabled = true;
+  coherent.coherence.max_translation = 2e-3;
+  const auto path = [](int i) {
+    ContactFrames frames;
+    frames.pointshell =
+        pose(Eigen::Vector3d(0.3, 0.1, 0.0), Eigen::Vector3d(0.0, 0.0, 1.3 - 1.65e-3 * i));
+    return frames;
+  };
+  constexpr int steps = 200;  // down to z = 0.97
+  ContactWorkspace reference(tree, coherent);
+  std::int64_t most_visited = 0, skipped = 0;
+  for (int i = 0; i < steps; ++i) {
+    ASSERT_TRUE(query_contact(tree, plane, path(i), reference));
+    most_visited = std::max(most_visited, reference.result().statistics.nodes_traversed);
+    skipped += reference.result().statistics.nodes_skipped;
+  }
+  ASSERT_GT(reference.result().statistics.points_in_contact, 0);
+  ASSERT_GT(skipped, 10 * most_visited) << "coherence skips many nodes";
+
+  ContactOptions options = coherent;
+  options.degradation.mode = DegradationOptions::Mode::node_count;
+  options.degradation.warm_threshold = 1.4 * static_cast<double>(most_visited);
+  ContactWorkspace workspace(tree, options);
+  ContactWorkspace again(tree, coherent);
+  for (int i = 0; i < steps; ++i) {
+    ASSERT_TRUE(query_contact(tree, plane, path(i), workspace));
+    ASSERT_TRUE(query_contact(tree, plane, path(i), again));
+    ASSERT_TRUE(workspace.result().statistics.complete) << "query " << i;
+    ASSERT_EQ(workspace.result().force, again.result().force) << "query " << i;
+  }
+}
+
 TEST(ContactQuery, ColdThresholdIsStricterThanTheWarmOne) {
   const PointTree& tree = fixture().sphere;
   const ImplicitShape plane = ground();

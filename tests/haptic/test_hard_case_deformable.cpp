@@ -17,6 +17,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <numbers>
 
 namespace khz::haptic::hard_cases {
@@ -202,6 +203,94 @@ TEST(HardCases, DeformableToolAgainstDeformableBeam) {
       "tool on beam: beam energy %.3e J, tool energy %.3e J while pressed; %.3e and "
       "%.3e J at the end\n",
       beam_energy, tool_energy, beam.energy(), tool.energy());
+}
+
+/// A clock for DegradationOptions::clock that runs like the steady clock, but loses
+/// `stall_per_reading` seconds at every reading while that is set: to the contact query, the
+/// machine suddenly became that much slower (a preempted thread, a slow machine).
+struct StallingClock {
+  static inline double lost = 0.0;
+  static inline double stall_per_reading = 0.0;
+  static double now() noexcept {
+    lost += stall_per_reading;
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+               .count() +
+           lost;
+  }
+};
+
+// Graceful degradation never lets an object through (issue 19 item 3). The beam, held at its
+// centre as the pointshell object, is pressed flat onto a 4 mm plate (two voxels) 3 cm past
+// contact, far beyond the coupling's saturation, under a 2 ms budget that fits every level
+// here, even in a sanitizer build on a loaded machine. Then, while it rests on the plate, the
+// clock stalls 1 ms at every reading (5 ms per query) for 20 cycles: the query measures a
+// machine hundreds of times slower, and its cost estimate stays high for hundreds of cycles
+// after. The levels the contact was rendered at are kept (the contact floor), so in every one of
+// five runs, in every cycle, the deepest level never drops while in contact, penetration stays
+// ≤ 1 voxel and the contact force never points into the plate. Without the floor the level drops
+// in the first stalled cycle.
+TEST(HardCases, AContactOnAThinPlateIsNeverHandedToACoarserLevelWhenTheClockStalls) {
+  constexpr double half_thickness = voxel;  // the plate: |z| ≤ 2 mm
+  const contact::DistanceGrid plate = sampled_field(
+      [](const Eigen::Vector3d& p) { return std::abs(p.z()) - half_thickness; },
+      voxel_grid(Eigen::Vector3d(-0.05, -0.05, -0.03), Eigen::Vector3d(0.25, 0.07, 0.05)));
+  const Eigen::Vector3d grasp_in_body(beam_length / 2, beam_side / 2, beam_side / 2);
+  const Eigen::Vector3d above(beam_length / 2, beam_side / 2,
+                              half_thickness + 0.01 + beam_side / 2);
+  const TargetFunction target = keyframe_target({{0.0, at(above)},
+                                                 {0.3, at(above - Eigen::Vector3d(0, 0, 0.04))},
+                                                 {0.8, at(above - Eigen::Vector3d(0, 0, 0.04))}});
+  constexpr int stall_begin = 400, stall_end = 420;
+
+  for (int repeat = 0; repeat < 5; ++repeat) {
+    DeformableBeam b;
+    contact::ContactOptions options = contact_options(contact::HapticObject::pointshell);
+    options.degradation.mode = contact::DegradationOptions::Mode::time_budget;
+    options.degradation.budget_microseconds = 2000.0;
+    options.degradation.clock = &StallingClock::now;
+    const PairScene scene(b.tree, plate, options, grasp_in_body, Eigen::Isometry3d::Identity(),
+                          b.integrator.get());
+    const auto penetration = [&](const Pose& grasp) {
+      const Eigen::Isometry3d body = held_body_pose(grasp, grasp_in_body);
+      double deepest = 0.0;
+      for (Eigen::Index s = 0; s < b.tree.tree().num_points(); ++s) {
+        const Eigen::Vector3d p = body * b.tree.position(s, b.integrator->coordinates());
+        deepest = std::max(deepest, -plate.distance(p));
+      }
+      return deepest;
+    };
+    Harness harness(target, scene, coupling_options(beam_length), penetration);
+    for (int i = 0; i < 800; ++i) {
+      StallingClock::stall_per_reading = i >= stall_begin && i < stall_end ? 1e-3 : 0.0;
+      harness.step();
+    }
+    StallingClock::stall_per_reading = 0.0;
+    const std::vector<Sample>& trace = harness.trace();
+    ASSERT_EQ(first_non_finite(trace), trace.size());
+    double strongest = 0.0, deepest = 0.0, slowest_stalled = 0.0;
+    for (std::size_t i = 0; i < trace.size(); ++i) {
+      const contact::ContactStatistics& stats = trace[i].record.contact.statistics;
+      ASSERT_TRUE(trace[i].record.integrators_ok && trace[i].record.contact_valid);
+      ASSERT_GE(trace[i].record.contact.force.z(), -1e-9)
+          << "run " << repeat << ": the force points into the plate, cycle " << i;
+      ASSERT_LE(trace[i].penetration, voxel) << "run " << repeat << ": sank in, cycle " << i;
+      if (i > 0 && trace[i - 1].record.contact.statistics.points_in_contact > 0) {
+        ASSERT_GE(stats.deepest_level, trace[i - 1].record.contact.statistics.deepest_level)
+            << "run " << repeat << ": a contact was handed to a coarser level, cycle " << i;
+      }
+      strongest = std::max(strongest, trace[i].record.contact.force.norm());
+      deepest = std::max(deepest, trace[i].penetration);
+      if (static_cast<int>(i) >= stall_begin && static_cast<int>(i) < stall_end) {
+        slowest_stalled = std::max(slowest_stalled, stats.microseconds);
+      }
+    }
+    EXPECT_GT(strongest, 0.5 * saturation_force) << "the beam reached the plate";
+    EXPECT_GT(trace[stall_begin].record.contact.statistics.points_in_contact, 0)
+        << "the stall came in contact";
+    EXPECT_GT(slowest_stalled, 1000.0) << "the query measured the stall";
+    std::printf("run %d: contact up to %.2f N, deepest %.3f mm, stalled queries up to %.0f us\n",
+                repeat, strongest, 1e3 * deepest, slowest_stalled);
+  }
 }
 
 }  // namespace

@@ -23,6 +23,9 @@ constexpr double min_measured_units = 64.0;
 /// (bench_haptic_loop saw 500 degraded queries after one 2.5 ms stall without the cap).
 constexpr double cost_decay = 1.0 / 32.0;
 constexpr double max_cost_jump = 2.0;
+/// The typical cost per unit (the contact floor's) moves towards the measured one by at most
+/// this factor per query, up or down.
+constexpr double typical_cost_step = 1.0 + 1.0 / 32.0;
 
 Eigen::Index widest_level(const PointTree& tree) {
   Eigen::Index widest = 0;
@@ -110,7 +113,9 @@ void ContactWorkspace::reset() noexcept {
   m_cycle = 0;
   m_have_previous = false;
   m_warm_level = -1;
+  m_contact_floor = -1;
   m_seconds_per_unit = initial_seconds_per_unit;
+  m_typical_seconds_per_unit = 0.0;
 }
 
 bool ContactWorkspace::begin_coherence(const Eigen::Matrix3d& rotation,
@@ -185,11 +190,17 @@ double ContactWorkspace::seconds_per_unit(double elapsed, double units, double l
   return std::max({m_seconds_per_unit, measured, level});
 }
 
-void ContactWorkspace::end_degradation(int deepest_level, double seconds,
+void ContactWorkspace::end_degradation(int deepest_level, bool in_contact, double seconds,
                                        double cost_units) noexcept {
   m_warm_level = deepest_level;
+  m_contact_floor = in_contact ? deepest_level : -1;
   if (cost_units < min_measured_units) return;
   const double measured = seconds / cost_units;
+  m_typical_seconds_per_unit =
+      m_typical_seconds_per_unit == 0.0
+          ? measured
+          : std::clamp(measured, m_typical_seconds_per_unit / typical_cost_step,
+                       m_typical_seconds_per_unit * typical_cost_step);
   m_seconds_per_unit = measured >= m_seconds_per_unit
                            ? std::min(measured, max_cost_jump * m_seconds_per_unit)
                            : m_seconds_per_unit + cost_decay * (measured - m_seconds_per_unit);

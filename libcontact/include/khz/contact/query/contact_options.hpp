@@ -29,6 +29,14 @@ enum class ContactGradient {
 /// (α = 1, β = contact_weight), and renders the level only if the prediction stays within the
 /// threshold: the warm one for levels no deeper than the deepest level of the previous query,
 /// the cold one, cold_fraction × warm, below it (so the level of detail does not flicker).
+/// A contact floor overrides both: when the previous query had points in contact, every level
+/// but its deepest is rendered again whatever the prediction, and its deepest too while it
+/// fits (node_count: the warm threshold; time_budget: the budget at the machine's typical cost
+/// per unit, which a stall barely moves). So a contact is handed to a coarser level at most one
+/// level per query, and not at all because of a spike in the measured cost: never at once to a
+/// coarse level whose few points could let the object sink through a thin wall. A query whose
+/// contact has grown can exceed its budget by the cost of its second-deepest level's growth for
+/// one query.
 struct KHZ_CONTACT_API DegradationOptions {
   enum class Mode {
     none,        ///< Every level, as deep as contact reaches.
@@ -38,7 +46,8 @@ struct KHZ_CONTACT_API DegradationOptions {
     /// predicted time stays within budget_microseconds (warm) or cold_fraction of it (cold).
     /// The cost per unit rises at once when a query is slower (at most doubling per query, so
     /// one query the OS preempted does not degrade hundreds) and falls slowly, so a budget
-    /// holds at the 99th percentile once the first queries have measured it.
+    /// holds at the 99th percentile once the first queries have measured it (the contact floor
+    /// below aside).
     time_budget,
   };
   Mode mode = Mode::none;
@@ -52,6 +61,11 @@ struct KHZ_CONTACT_API DegradationOptions {
   /// force) in units of a traversed node, ≥ 0; the thesis suggests up to 1.5, and counts
   /// traversed nodes only (0).
   double contact_weight = 0.0;
+  /// The clock a time budget is measured on: seconds from any origin, never decreasing; null
+  /// (the default) is the steady clock. Read a few times per query (at its start, after each
+  /// level, at its end; ContactStatistics::microseconds too), never per point. For simulating a
+  /// slower or stalling machine in tests, or for driving the budget from another time source.
+  double (*clock)() noexcept = nullptr;
 };
 
 /// Temporal coherence (§3.10.2): a node whose bounding sphere was a gap g away from contact is

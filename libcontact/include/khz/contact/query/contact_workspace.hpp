@@ -48,9 +48,9 @@ class KHZ_CONTACT_API ContactWorkspace {
   /// @throws Error if the size is not the tree's point count or a weight is not finite and > 0.
   void set_area_weights(std::vector<double> weights);
 
-  /// Forgets temporal coherence, the warm level and the measured cost per node: call it when
-  /// the objects jump (a teleport, a new scene), though a query also notices motion beyond the
-  /// declared bounds itself.
+  /// Forgets temporal coherence, the warm level, the contact floor and the measured cost per
+  /// node: call it when the objects jump (a teleport, a new scene), though a query also notices
+  /// motion beyond the declared bounds itself.
   void reset() noexcept;
 
   /// The last query's result.
@@ -79,8 +79,17 @@ class KHZ_CONTACT_API ContactWorkspace {
   /// the query's average does.
   double seconds_per_unit(double elapsed, double units, double level_seconds,
                           double level_units) const noexcept;
-  /// After a query: keeps the level of detail and the measured cost per unit.
-  void end_degradation(int deepest_level, double seconds, double cost_units) noexcept;
+  /// time_budget mode: whether `units` cost units take at most `budget` seconds at the typical
+  /// cost per unit, which follows the measured one by at most 1/32 per query either way (so a
+  /// stall moves it little, a slower machine in a few hundred queries); true before any
+  /// measurement.
+  bool fits_at_typical_speed(double units, double budget) const noexcept {
+    return units * m_typical_seconds_per_unit <= budget;
+  }
+  /// After a query: keeps the level of detail, whether it was in contact (then its deepest level
+  /// is the next query's floor) and the measured cost per unit.
+  void end_degradation(int deepest_level, bool in_contact, double seconds,
+                       double cost_units) noexcept;
 
   ContactOptions m_options;
   ContactResult m_result;
@@ -112,7 +121,9 @@ class KHZ_CONTACT_API ContactWorkspace {
 
   // Graceful degradation.
   int m_warm_level = -1;
+  int m_contact_floor = -1;         // the previous query's deepest level, if it was in contact
   double m_seconds_per_unit = 0.0;  // time_budget: measured cost per unit
+  double m_typical_seconds_per_unit = 0.0;  // time_budget: the same, rate-limited (0: none yet)
 };
 
 }  // namespace khz::contact

@@ -29,7 +29,7 @@ struct KHZ_CONTACT_API ContactStatistics {
   double deepest_penetration = 0.0;
   /// False when graceful degradation stopped before a level contact reached.
   bool complete = true;
-  /// Wall time of the query (µs, steady clock).
+  /// Wall time of the query (µs, steady clock or DegradationOptions::clock).
   double microseconds = 0.0;
 
   /// Combines another query's counters into these, as for queries run one after the other in

@@ -178,9 +178,14 @@ struct TraversalAccess {
 template <typename Points, DistanceField Field>
 bool TraversalAccess::run(const Points& points, const Field& field, const ContactFrames& frames,
                           ContactWorkspace& ws) noexcept {
-  const Clock::time_point start = Clock::now();
-  const PointTree& tree = points.tree();
   const ContactOptions& options = ws.m_options;
+  const auto now = [clock = options.degradation.clock]() noexcept {
+    return clock != nullptr
+               ? clock()
+               : std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+  };
+  const double start = now();
+  const PointTree& tree = points.tree();
   constexpr bool deformable_field = DeformableDistanceField<Field>;
   constexpr bool gradient_with_value = !deformable_field;
   bool fits = ws.m_tree_identity == &tree && ws.m_nodes == tree.num_nodes() &&
@@ -357,25 +362,40 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
       break;
     }
 
-    // Graceful degradation (§3.10.3): render level + 1 only if its predicted cost fits.
+    // Graceful degradation (§3.10.3): render level + 1 only if its predicted cost fits. The
+    // contact floor overrides that: when the previous query had points in contact, a level more
+    // than one above its deepest is always rendered, and its deepest level too while the
+    // contact's cost at the machine's typical speed fits the budget. So a spike in the measured
+    // cost (a preempted thread) drops no level, and a contact whose cost has really grown is
+    // handed to a coarser level one level per query, never at once to a coarse level whose few
+    // points could let the object sink through.
     if (degradation.mode != DegradationOptions::Mode::none) {
       const double limit_fraction = level + 1 <= ws.m_warm_level ? 1.0 : degradation.cold_fraction;
       const double traversed = static_cast<double>(stats.nodes_traversed);
       const double contacts = static_cast<double>(stats.points_in_contact);
-      const double queued = static_cast<double>(next_count);
-      bool render;
+      // Queued nodes temporal coherence will skip cost next to nothing: only the others count
+      // (one read each, against a lookup each for the nodes it would otherwise predict).
+      Eigen::Index skipped_next = 0;
+      if (coherent) {
+        for (Eigen::Index k = 0; k < next_count; ++k) {
+          skipped_next += ws.m_skip_until[static_cast<std::size_t>(next[k])] > ws.m_cycle ? 1 : 0;
+        }
+      }
+      const double queued = static_cast<double>(next_count - skipped_next);
+      const double units = cost_units(traversed, contacts, queued);
+      bool render = level + 1 < ws.m_contact_floor;
       if (degradation.mode == DegradationOptions::Mode::node_count) {
-        render =
-            cost_units(traversed, contacts, queued) <= limit_fraction * degradation.warm_threshold;
+        render = render || units <= limit_fraction * degradation.warm_threshold;
       } else {
-        const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+        const double budget = degradation.budget_microseconds * 1e-6;
+        const double elapsed = now() - start;
         const double units_so_far = cost_units(traversed, contacts, 0.0);
         const double per_unit =
             ws.seconds_per_unit(elapsed, units_so_far, elapsed - level_started.seconds,
                                 units_so_far - level_started.units);
-        const double predicted =
-            elapsed + per_unit * (cost_units(traversed, contacts, queued) - units_so_far);
-        render = predicted <= limit_fraction * degradation.budget_microseconds * 1e-6;
+        const double predicted = elapsed + per_unit * (units - units_so_far);
+        render = render || predicted <= limit_fraction * budget ||
+                 (level + 1 == ws.m_contact_floor && ws.fits_at_typical_speed(units, budget));
         level_started = {elapsed, units_so_far};
       }
       if (!render) {
@@ -412,9 +432,9 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
   }
   if constexpr (deformable_field) result.field_reduced_force *= scale;
 
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const double seconds = now() - start;
   stats.microseconds = seconds * 1e6;
-  ws.end_degradation(stats.deepest_level, seconds,
+  ws.end_degradation(stats.deepest_level, stats.points_in_contact > 0, seconds,
                      cost_units(static_cast<double>(stats.nodes_traversed),
                                 static_cast<double>(stats.points_in_contact), 0.0));
   return true;
