@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 #include <random>
 #include <vector>
 
@@ -68,6 +69,8 @@ TEST(CycleMetrics, JumpQuantilesMatchTheSortedJumpsToTwoPercent) {
   EXPECT_NEAR(s.rendered_force_jump.p99, 0.5 * nearest_rank(jumps, 0.99),
               0.02 * nearest_rank(jumps, 0.99));
   EXPECT_NEAR(s.contact_force_jump.max, *std::max_element(jumps.begin(), jumps.end()), 1e-12);
+  const double mean = std::accumulate(jumps.begin(), jumps.end(), 0.0) / jumps.size();
+  EXPECT_NEAR(s.contact_force_jump.mean, mean, 1e-12 * mean);
   EXPECT_EQ(s.peak_contact_force, peak);
   EXPECT_EQ(s.contact_torque_jump.max, 0.0);
   EXPECT_EQ(s.contact_torque_jump.p99, 0.0);

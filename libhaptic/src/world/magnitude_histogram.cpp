@@ -22,6 +22,7 @@ void MagnitudeHistogram::add(double value) noexcept {
     ++m_bins[0];
     return;
   }
+  m_sum += value;
   m_max = std::max(m_max, value);
   const double position = std::log10(value / kSmallest) * kBinsPerDecade;
   const int bin = 1 + std::min(static_cast<int>(position), kBins - 2);
@@ -44,12 +45,13 @@ double MagnitudeHistogram::quantile(double fraction) const noexcept {
 
 Quantiles MagnitudeHistogram::quantiles() const noexcept {
   if (m_count == 0) return {};
-  return {quantile(0.5), quantile(0.99), m_max, m_count};
+  return {m_sum / static_cast<double>(m_count), quantile(0.5), quantile(0.99), m_max, m_count};
 }
 
 void MagnitudeHistogram::clear() noexcept {
   std::fill(m_bins.begin(), m_bins.end(), 0);
   m_count = 0;
+  m_sum = 0.0;
   m_max = 0.0;
 }
 

@@ -20,7 +20,8 @@ class MagnitudeHistogram {
   /// Counts one value (negative and NaN values count as zero). Allocation-free.
   void add(double value) noexcept;
   /// Nearest-rank p50 and p99, each the geometric centre of its bin (clamped to the maximum; 0
-  /// for the bin of zeros), and the exact maximum and count. All zero before the first value.
+  /// for the bin of zeros), and the exact mean, maximum and count (negative and NaN values as
+  /// zero). All zero before the first value.
   Quantiles quantiles() const noexcept;
   void clear() noexcept;
 
@@ -29,6 +30,7 @@ class MagnitudeHistogram {
 
   std::vector<std::int64_t> m_bins;  // [0]: zeros and values below 1e-12
   std::int64_t m_count = 0;
+  double m_sum = 0.0;
   double m_max = 0.0;
 };
 

@@ -21,6 +21,7 @@ Spread spread(std::vector<double> values) {
   s.p50 = rank(0.5);
   s.p99 = rank(0.99);
   s.max = values.back();
+  s.count = static_cast<std::int64_t>(values.size());
   return s;
 }
 

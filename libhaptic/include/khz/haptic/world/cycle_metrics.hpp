@@ -11,10 +11,12 @@
 
 namespace khz::haptic {
 
-/// The median, the 99th percentile (nearest rank) and the maximum of a nonnegative per-cycle
-/// quantity, and the number of cycles they were taken over. The percentiles are known to 2 %
-/// (logarithmic bins), the maximum exactly; all zero when count is 0.
+/// The mean, median, 99th percentile (nearest rank) and maximum of a per-cycle quantity, and
+/// the number of values they were taken over; all zero when count is 0. CycleMetrics' are of
+/// nonnegative values, with the percentiles known to 2 % (logarithmic bins) and the mean and
+/// maximum exactly.
 struct Quantiles {
+  double mean = 0.0;
   double p50 = 0.0;
   double p99 = 0.0;
   double max = 0.0;

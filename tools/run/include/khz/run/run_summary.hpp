@@ -10,15 +10,10 @@
 
 namespace khz::run {
 
-/// Mean and quantiles of a per-cycle quantity.
-struct Spread {
-  double mean = 0.0;
-  double p50 = 0.0;
-  double p99 = 0.0;
-  double max = 0.0;
-};
+/// Mean and quantiles of a per-cycle quantity (exact, from all the values).
+using Spread = haptic::Quantiles;
 
-/// Mean, median, 99th percentile (nearest rank) and maximum; all zero for no values.
+/// Mean, median, 99th percentile (nearest rank), maximum and count; all zero for no values.
 Spread spread(std::vector<double> values);
 
 /// A run in figures.
