@@ -56,7 +56,7 @@ int main() {
     kh::Wrench w;  // anything, even NaN; here a wall at z = 0, 1000 N/m
     w.force.z() = s.pose.position.z() < 0.0 ? -1000.0 * s.pose.position.z() : 0.0;
     safe.write(w);               // mapped, checked, clamped, sent
-    safe.end_cycle(now + 1e-4);  // late → the next write is zero
+    safe.end_cycle(now + 1e-4);  // late → the next write slews from what the device held
     std::printf("z = %5.1f mm: wall %4.1f N, device sent %4.1f N\n", 1e3 * s.pose.position.z(),
                 w.force.z(), device.sent.z());
   }

@@ -257,11 +257,19 @@ class Harness {
   void run(int count) {
     for (int i = 0; i < count; ++i) step();
   }
+  /// Makes the next cycle stall for `periods` periods before it ends: it ends late (a deadline
+  /// miss for the safety layer), the device holds its output through the stall
+  /// (SimulatedOperator::inject_stall()), and every later cycle starts that much later.
+  void stall(int periods) { m_pending_stall = periods; }
   /// Runs one cycle and returns its sample.
   const Sample& step() {
-    const double now = static_cast<double>(m_trace.size()) * period;
+    const double now = static_cast<double>(m_trace.size() + m_stalled_periods) * period;
+    const double late = static_cast<double>(m_pending_stall) * period;
     Sample sample;
-    sample.record = m_world.cycle(now, now + period, [&] { return now + 0.1 * period; })[0];
+    sample.record = m_world.cycle(now, now + period, [&] { return now + 0.1 * period + late; })[0];
+    m_device.inject_stall(m_pending_stall);
+    m_stalled_periods += m_pending_stall;
+    m_pending_stall = 0;
     sample.device_energy = m_device.kinetic_energy();
     sample.device = m_device.pose();
     if (m_penetration) sample.penetration = m_penetration(sample.record.simulation);
@@ -288,6 +296,8 @@ class Harness {
   World m_world;
   std::function<double(const Pose&)> m_penetration;
   std::vector<Sample> m_trace;
+  int m_pending_stall = 0;    // periods the next cycle stalls
+  int m_stalled_periods = 0;  // periods lost to stalls so far
 };
 
 /// The first cycle of a trace with anything non-finite, or trace.size().

@@ -628,5 +628,59 @@ TEST(HapticHardCases, ANaNPoseOrADisconnectMidContactRendersZeroAtOnceAndRecover
             coupling_stiffness * (1.0 + 1e-6));
 }
 
+// Late cycles (issue 19 item 6): a ball pressed onto a floor with 3 N and slid sideways at
+// 5 cm/s; three times the loop stalls, for 5, 20 and 100 ms, the device holding its last output
+// meanwhile (SimulatedOperator::inject_stall()) and the safety layer seeing the late cycle. The
+// writes after it move from the held force to the fresh one over the 20-cycle ramp instead of
+// dropping to zero, so no cycle's rendered force differs from the last by more than 5 % of the
+// press, and the stall gives the hand no energy: the passivity observer (CycleMetrics) never
+// falls below its value before the stall.
+TEST(HapticHardCases, AStalledLoopRendersNoSpikeAndGivesNoEnergy) {
+  constexpr double radius = 0.03;
+  const contact::PointTree ball = nested_tree(sphere_pointshell(radius, 85 * 16), 85);
+  const contact::ImplicitShape floor = contact::HalfSpace(Eigen::Vector3d::UnitZ(), 0.0);
+  const PairScene scene(ball, floor, contact_options(HapticObject::pointshell),
+                        Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity());
+  SafetyOptions safety;
+  safety.ramp_cycles = 20;
+  const HandModel hand;
+  const double pressed = radius - 3.0 / hand.stiffness - 3.0 / coupling_stiffness;
+  Harness run(
+      keyframe_target({{0.0, at({0.0, 0.0, radius + 0.02})},
+                       {0.3, at({0.0, 0.0, pressed})},
+                       {0.5, at({0.0, 0.0, pressed})},
+                       {3.5, at({0.15, 0.0, pressed})}}),
+      scene, coupling_options(radius),
+      [&](const Pose& grasp) {
+        return deepest_penetration(ball.pointshell().points, floor,
+                                   held_body_pose(grasp, Eigen::Vector3d::Zero()));
+      },
+      safety);
+  run.run(1000);
+  const double press = run.trace().back().record.rendered.force.norm();
+  ASSERT_GT(press, 2.0) << "pressed";
+  for (const int stall : {5, 20, 100}) {
+    const double energy_before = run.trace().back().record.observed_energy;
+    run.stall(stall);
+    double largest_jump = 0.0, lowest_energy = energy_before;
+    for (int i = 0; i < 300; ++i) {
+      const Eigen::Vector3d before = run.trace().back().record.rendered.force;
+      const CycleRecord& r = run.step().record;
+      ASSERT_TRUE(r.device_valid && r.contact_valid && r.coupling_valid);
+      largest_jump = std::max(largest_jump, (r.rendered.force - before).norm());
+      lowest_energy = std::min(lowest_energy, r.observed_energy);
+    }
+    EXPECT_LE(largest_jump, 0.05 * press) << stall << " ms";
+    EXPECT_GE(lowest_energy, energy_before - 1e-9) << stall << " ms";
+    std::printf(
+        "stall %3d ms: largest jump %.3f N (press %.2f N); observer %.5f J, lowest after "
+        "%.5f J\n",
+        stall, largest_jump, press, energy_before, lowest_energy);
+  }
+  const std::vector<Sample>& trace = run.trace();
+  ASSERT_EQ(first_non_finite(trace), trace.size());
+  EXPECT_LE(largest(trace, 0, trace.size(), [](const Sample& s) { return s.penetration; }), voxel);
+}
+
 }  // namespace
 }  // namespace khz::haptic::hard_cases

@@ -171,12 +171,13 @@ TEST(SafeDevice, WaitsForASmallForceAfterOpeningAndNotAfterADeadlineMiss) {
   EXPECT_EQ(cycle(wrench({0, 0, -2})), Eigen::Vector3d(0, 0, -2));  // at the threshold: on
   EXPECT_EQ(cycle(push), push.force);
 
-  // A missed deadline zeroes one write, then the push resumes without waiting.
+  // A missed deadline neither zeroes nor waits: the push goes on.
   safe.begin_cycle(1.0);
   safe.read(state);
   safe.write(push);
   safe.end_cycle(2.0);
-  EXPECT_EQ(cycle(push), Eigen::Vector3d::Zero());
+  EXPECT_EQ(cycle(push), push.force);
+  EXPECT_EQ(safe.last_write_events(), safety_after_deadline_miss);
   EXPECT_EQ(cycle(push), push.force);
 
   // Infinity turns the wait off.
@@ -197,26 +198,45 @@ TEST(SafeDevice, NonFiniteOutputNeverReachesTheDevice) {
   EXPECT_EQ(rig.cycle(wrench({1, 0, 0})).force, Eigen::Vector3d(1, 0, 0));
 }
 
-TEST(SafeDevice, ADeadlineMissZeroesTheNextWrite) {
+TEST(SafeDevice, ADeadlineMissNeitherZeroesNorJumps) {
+  // Without a ramp the write after a miss is the fresh wrench, as if nothing had happened: a drop
+  // to zero would be a jolt, and the hand would sink into what it was pressing.
   Rig rig({.deadline_tolerance = 1e-4});
   const Wrench push = wrench({2, 0, 0});
-  const auto timed_cycle = [&](double deadline, double end) {
-    rig.safe.begin_cycle(deadline);
-    const Wrench out = rig.cycle(push);
-    rig.safe.end_cycle(end);
+  const auto timed_cycle = [&](Rig& r, const Wrench& w, double deadline, double end) {
+    r.safe.begin_cycle(deadline);
+    const Wrench out = r.cycle(w);
+    r.safe.end_cycle(end);
     return out;
   };
-  EXPECT_EQ(timed_cycle(1.000, 1.00005).force, push.force);  // late but within tolerance
+  EXPECT_EQ(timed_cycle(rig, push, 1.000, 1.00005).force, push.force);  // late but within tolerance
   EXPECT_EQ(rig.safe.statistics().deadline_misses, 0u);
-  EXPECT_EQ(timed_cycle(1.001, 1.0015).force, push.force);  // this one misses...
+  EXPECT_EQ(timed_cycle(rig, push, 1.001, 1.0015).force, push.force);  // this one misses...
   EXPECT_EQ(rig.safe.statistics().deadline_misses, 1u);
-  EXPECT_EQ(timed_cycle(1.002, 1.002).force, Eigen::Vector3d::Zero());  // ...so this is zero
-  EXPECT_EQ(rig.safe.last_write_events(), safety_zeroed_deadline_miss);
-  EXPECT_EQ(timed_cycle(1.003, 1.003).force, push.force);  // and output resumes
-  EXPECT_EQ(timed_cycle(1.004, nan).force, push.force);    // a NaN clock is a miss
-  EXPECT_EQ(timed_cycle(1.005, 1.005).force, Eigen::Vector3d::Zero());
+  EXPECT_EQ(timed_cycle(rig, push, 1.002, 1.002).force, push.force);  // ...and output goes on
+  EXPECT_EQ(rig.safe.last_write_events(), safety_after_deadline_miss);
+  EXPECT_EQ(timed_cycle(rig, push, 1.004, nan).force, push.force);  // a NaN clock is a miss
+  EXPECT_EQ(rig.safe.statistics().deadline_misses, 2u);
+  EXPECT_EQ(rig.safe.statistics().zeroed_writes, 0u);
   rig.safe.end_cycle(100.0);  // without begin_cycle: nothing
   EXPECT_EQ(rig.safe.statistics().deadline_misses, 2u);
+
+  // With a ramp of N the writes after a miss move from the output the device held through the
+  // late cycle to the fresh wrench in N equal steps.
+  Rig ramped({.deadline_tolerance = 1e-4, .ramp_cycles = 4});
+  for (int k = 0; k < 5; ++k) ramped.cycle(push);              // past the start-up ramp
+  const Wrench held = timed_cycle(ramped, push, 2.000, 2.01);  // late: 2 N held for 10 ms
+  EXPECT_EQ(held.force, push.force);
+  const Wrench fresh = wrench({-1, 3, 0}, {0, 0, 0.4});
+  for (int k = 1; k <= 5; ++k) {
+    const double factor = std::min(k, 4) / 4.0;
+    const Wrench out = ramped.cycle(fresh);
+    EXPECT_NEAR((out.force - (push.force + factor * (fresh.force - push.force))).norm(), 0.0, 1e-12)
+        << k;
+    EXPECT_NEAR((out.torque - factor * fresh.torque).norm(), 0.0, 1e-12) << k;
+    EXPECT_EQ((ramped.safe.last_write_events() & safety_ramping) != 0, k < 4) << k;
+  }
+  EXPECT_EQ(ramped.safe.statistics().zeroed_writes, 0u);
 }
 
 TEST(SafeDevice, OutputRampsUpAfterAZeroedWrite) {

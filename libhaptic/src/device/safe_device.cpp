@@ -79,6 +79,7 @@ void SafeDevice::restart() noexcept {
   m_cycle_open = false;
   m_pending_miss = false;
   m_ramp_step = 0;
+  m_ramp_from = Wrench{};
   m_waiting_for_small_force = true;
   m_virtual_state.valid = false;
 }
@@ -168,7 +169,12 @@ bool SafeDevice::read(DeviceState& state) noexcept {
 bool SafeDevice::write(const Wrench& wrench) noexcept {
   std::uint32_t events = 0;
   if (!m_input_ok) events |= safety_zeroed_read_failure;
-  if (m_pending_miss) events |= safety_zeroed_deadline_miss;
+  if (m_pending_miss) {
+    // The late cycle's output is what the hand has been feeling: start from it.
+    events |= safety_after_deadline_miss;
+    m_ramp_from = m_last_output;
+    m_ramp_step = 0;
+  }
   m_pending_miss = false;
   if (m_indexing && m_options.zero_output_while_indexing) events |= safety_zeroed_indexing;
 
@@ -180,7 +186,7 @@ bool SafeDevice::write(const Wrench& wrench) noexcept {
     ++m_statistics.invalid_outputs;
     events |= safety_zeroed_invalid_output;
   }
-  if (events != 0) return send(Wrench{}, events);
+  if ((events & ~safety_after_deadline_miss) != 0) return send(Wrench{}, events);
 
   const int output_dof = m_device.capabilities().output_dof;
   if (output_dof == 0) output.force.setZero();
@@ -197,20 +203,20 @@ bool SafeDevice::write(const Wrench& wrench) noexcept {
     ++m_ramp_step;
     const double factor = double(m_ramp_step) / double(m_options.ramp_cycles);
     if (factor < 1.0) events |= safety_ramping;
-    output.force *= factor;
-    output.torque *= factor;
+    output.force = m_ramp_from.force + factor * (output.force - m_ramp_from.force);
+    output.torque = m_ramp_from.torque + factor * (output.torque - m_ramp_from.torque);
   }
   return send(output, events);
 }
 
 bool SafeDevice::send(const Wrench& output, std::uint32_t events) noexcept {
-  constexpr std::uint32_t zeroing_events = safety_zeroed_read_failure |
-                                           safety_zeroed_invalid_output |
-                                           safety_zeroed_deadline_miss | safety_zeroed_indexing;
+  constexpr std::uint32_t zeroing_events =
+      safety_zeroed_read_failure | safety_zeroed_invalid_output | safety_zeroed_indexing;
   if ((events & zeroing_events) != 0) {
     m_ramp_step = 0;
+    m_ramp_from = Wrench{};
     // A device that failed may come back anywhere, inside an object: wait for a small force.
-    // A missed deadline or an indexing pause leaves the pose continuous: only the ramp applies.
+    // An indexing pause leaves the pose continuous: only the ramp applies.
     if ((events & safety_zeroed_read_failure) != 0) m_waiting_for_small_force = true;
     if ((events & ~safety_zeroed_indexing & zeroing_events) != 0) ++m_statistics.zeroed_writes;
   }

@@ -104,6 +104,7 @@ void SimulatedOperator::open() {
   m_applied = Wrench{};
   m_invalid_reads = 0;
   m_disconnected_reads = 0;
+  m_stalled_periods = 0;
   m_connected = true;
   m_started = false;
   m_open = true;
@@ -156,7 +157,10 @@ bool SimulatedOperator::read(DeviceState& state) noexcept {
     return false;
   }
   if (m_started) {
-    for (int s = 0; s < m_options.substeps; ++s) step();
+    for (int period = 0; period <= m_stalled_periods; ++period) {
+      for (int s = 0; s < m_options.substeps; ++s) step();
+    }
+    m_stalled_periods = 0;
   }
   m_started = true;
   m_connected = m_disconnected_reads == 0;

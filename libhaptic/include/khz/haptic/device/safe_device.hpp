@@ -40,8 +40,10 @@ struct KHZ_HAPTIC_API SafetyOptions {
   double max_torque = std::numeric_limits<double>::infinity();
   /// A cycle whose end_cycle() time exceeds its deadline by more than this (s, ≥ 0) is a miss.
   double deadline_tolerance = 0.0;
-  /// After any write the layer zeroed (fault, miss, indexing), the next `ramp_cycles` writes are
-  /// scaled by 1/N, 2/N, …, N/N so output resumes without a jolt. 0 or 1: resume at once.
+  /// After any write the layer zeroed (fault, indexing), the next `ramp_cycles` writes are
+  /// scaled by 1/N, 2/N, …, N/N so output resumes without a jolt; after a deadline miss they
+  /// move from the output the device held through the late cycle to the wrench asked for in the
+  /// same N steps. 0 or 1: resume at once.
   int ramp_cycles = 0;
   /// "Wait for small force" (device N, ≥ 0; CHAI3D's waitForSmallForce): after open() and after
   /// a failed or invalid read, output stays zero until the force asked for is at most this, and
@@ -84,9 +86,10 @@ enum SafetyEvent : std::uint32_t {
   safety_clamped_torque = 1u << 1,
   safety_zeroed_read_failure = 1u << 2,  ///< The cycle's read failed or was invalid.
   safety_zeroed_invalid_output = 1u << 3,
-  safety_zeroed_deadline_miss = 1u << 4,  ///< The previous cycle missed its deadline.
+  /// The previous cycle missed its deadline: this write starts from what the device held.
+  safety_after_deadline_miss = 1u << 4,
   safety_zeroed_indexing = 1u << 5,
-  safety_ramping = 1u << 6,  ///< Scaled down by the ramp after a zeroed write.
+  safety_ramping = 1u << 6,  ///< On the ramp after a zeroed write or a deadline miss.
   /// Zero: waiting, after the start or a failed read, for the force to fall to onset_force.
   safety_waiting_for_small_force = 1u << 7,
 };
@@ -97,16 +100,17 @@ enum SafetyEvent : std::uint32_t {
 ///     DeviceState s; safe.read(s);         // virtual-world pose; false → s.valid false
 ///     Wrench w = ...;                      // computed from s (any value, even NaN)
 ///     safe.write(w);                       // mapped, checked, clamped, sent
-///     safe.end_cycle(now);                 // a late cycle zeroes the next write
+///     safe.end_cycle(now);                 // a late cycle: the next write slews
 ///
 /// Guarantees, each within the cycle it is detected in: a failed or invalid read (disconnect,
 /// NaN pose) makes that cycle's write send zero; a non-finite wrench is replaced by zero; force
 /// and torque never exceed their limits (scaled down along their own direction; torque is
 /// dropped for 3-DOF output devices). A cycle that ends late (end_cycle after deadline +
-/// tolerance) makes the *next* write send zero: its wrench was computed from a stale pose and the
-/// device held the previous output for too long. Output resumes by itself when reads succeed
-/// again, once the force asked for is at most SafetyOptions::onset_force, and through the ramp if
-/// SafetyOptions::ramp_cycles > 1. Before the first good read, every write sends zero.
+/// tolerance) has left its output on the device for too long; the *next* write does not drop to
+/// zero (a jolt, and the hand would sink into what it pressed) but moves from that held output to
+/// the fresh wrench over SafetyOptions::ramp_cycles writes. Output resumes by itself when reads
+/// succeed again, once the force asked for is at most SafetyOptions::onset_force, and through the
+/// ramp if SafetyOptions::ramp_cycles > 1. Before the first good read, every write sends zero.
 ///
 /// Threading: the same as Device (read/write/begin_cycle/end_cycle from the haptic thread only,
 /// noexcept, no allocation). Settings and statistics are plain members: change or read them from
@@ -182,7 +186,8 @@ class KHZ_HAPTIC_API SafeDevice {
   double m_deadline = 0.0;
   bool m_cycle_open = false;
   bool m_pending_miss = false;
-  int m_ramp_step = 0;                    // writes since the last zeroed one, capped at ramp_cycles
+  int m_ramp_step = 0;  // writes since the last zeroed one or miss, capped at ramp_cycles
+  Wrench m_ramp_from;   // where the ramp starts (device axes): zero, or the output held late
   bool m_waiting_for_small_force = true;  // since the start or the last failed read
 
   Wrench m_last_output;

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -96,6 +97,7 @@ KHZ_HAPTIC_API TargetFunction keyframe_target(std::vector<Keyframe> keyframes);
 /// Faults for tests: inject_invalid_pose() makes reads report a NaN position while claiming to
 /// be valid; inject_disconnect() makes reads and writes fail, and the device renders zero until
 /// it is written to after reconnecting. The simulation keeps running through both.
+/// inject_stall() makes the next read come late, as after a stalled loop.
 class KHZ_HAPTIC_API SimulatedOperator final : public Device {
  public:
   /// @throws Error as SimulatedOperatorOptions::validate(), or if the target is empty.
@@ -117,6 +119,10 @@ class KHZ_HAPTIC_API SimulatedOperator final : public Device {
   /// The next `reads` reads fail and writes are refused until a read succeeds again; output
   /// stops at once and resumes with the next write after that.
   void inject_disconnect(int reads) noexcept;
+  /// The next read advances the simulation by `periods` more periods (≥ 0) with the wrench last
+  /// written held throughout: the loop stalled (a preempted or blocked thread) while the
+  /// device's output stage kept its last command.
+  void inject_stall(int periods) noexcept { m_stalled_periods = std::max(periods, 0); }
 
   double time() const noexcept { return m_time; }
   const Pose& pose() const noexcept { return m_pose; }
@@ -150,7 +156,8 @@ class KHZ_HAPTIC_API SimulatedOperator final : public Device {
   Wrench m_applied;
   int m_invalid_reads = 0;
   int m_disconnected_reads = 0;
-  bool m_connected = true;  // false from inject_disconnect() to the next successful read
+  int m_stalled_periods = 0;  // extra periods the next read advances
+  bool m_connected = true;    // false from inject_disconnect() to the next successful read
   std::uint64_t m_rejected_writes = 0;
 };
 
