@@ -221,14 +221,15 @@ struct StallingClock {
 
 // Graceful degradation never lets an object through (issue 19 item 3). The beam, held at its
 // centre as the pointshell object, is pressed flat onto a 4 mm plate (two voxels) 3 cm past
-// contact, far beyond the coupling's saturation, under a 2 ms budget that fits every level
-// here, even in a sanitizer build on a loaded machine. Then, while it rests on the plate, the
-// clock stalls 1 ms at every reading (5 ms per query) for 20 cycles: the query measures a
-// machine hundreds of times slower, and its cost estimate stays high for hundreds of cycles
-// after. The levels the contact was rendered at are kept (the contact floor), so in every one of
-// five runs, in every cycle, the deepest level never drops while in contact, penetration stays
-// ≤ 1 voxel and the contact force never points into the plate. Without the floor the level drops
-// in the first stalled cycle.
+// contact, far beyond the coupling's saturation, under a 20 ms budget: every level fits, even in
+// a sanitizer build on a loaded machine (the floor holds a level while it fits at the machine's
+// typical speed, so the budget must). Then, while the beam rests on the plate, the clock stalls
+// 10 ms at every reading (about 50 ms per query) for 20 cycles: the query measures a machine a
+// thousand times slower, and its cost estimate stays high for hundreds of cycles after. The
+// levels the contact was rendered at are kept (the contact floor), so in every one of five runs,
+// in every cycle, the deepest level never drops while in contact, penetration stays ≤ 1 voxel
+// and the contact force never points into the plate. Without the floor the level drops in the
+// first stalled cycle.
 TEST(HardCases, AContactOnAThinPlateIsNeverHandedToACoarserLevelWhenTheClockStalls) {
   constexpr double half_thickness = voxel;  // the plate: |z| ≤ 2 mm
   const contact::DistanceGrid plate = sampled_field(
@@ -246,7 +247,7 @@ TEST(HardCases, AContactOnAThinPlateIsNeverHandedToACoarserLevelWhenTheClockStal
     DeformableBeam b;
     contact::ContactOptions options = contact_options(contact::HapticObject::pointshell);
     options.degradation.mode = contact::DegradationOptions::Mode::time_budget;
-    options.degradation.budget_microseconds = 2000.0;
+    options.degradation.budget_microseconds = 20000.0;
     options.degradation.clock = &StallingClock::now;
     const PairScene scene(b.tree, plate, options, grasp_in_body, Eigen::Isometry3d::Identity(),
                           b.integrator.get());
@@ -261,7 +262,7 @@ TEST(HardCases, AContactOnAThinPlateIsNeverHandedToACoarserLevelWhenTheClockStal
     };
     Harness harness(target, scene, coupling_options(beam_length), penetration);
     for (int i = 0; i < 800; ++i) {
-      StallingClock::stall_per_reading = i >= stall_begin && i < stall_end ? 1e-3 : 0.0;
+      StallingClock::stall_per_reading = i >= stall_begin && i < stall_end ? 1e-2 : 0.0;
       harness.step();
     }
     StallingClock::stall_per_reading = 0.0;
@@ -287,7 +288,7 @@ TEST(HardCases, AContactOnAThinPlateIsNeverHandedToACoarserLevelWhenTheClockStal
     EXPECT_GT(strongest, 0.5 * saturation_force) << "the beam reached the plate";
     EXPECT_GT(trace[stall_begin].record.contact.statistics.points_in_contact, 0)
         << "the stall came in contact";
-    EXPECT_GT(slowest_stalled, 1000.0) << "the query measured the stall";
+    EXPECT_GT(slowest_stalled, 20000.0) << "the query measured the stall, beyond the budget";
     std::printf("run %d: contact up to %.2f N, deepest %.3f mm, stalled queries up to %.0f us\n",
                 repeat, strongest, 1e3 * deepest, slowest_stalled);
   }
