@@ -547,30 +547,39 @@ TEST(HapticHardCases, HundredsOfContactsKeepTheRenderedStiffnessBelowTheCoupling
 // ---------------------------------------------------------------------------------------------
 // 9. Device faults mid-contact (docs/DEVICES.md, SafeDevice).
 
+/// Cases 9 and 10: a 3 cm ball (1,360 points) held as the pointshell above a floor, and the
+/// anchor height at which the hand presses it down with 3 N through the saturated coupling.
+struct BallOnFloor {
+  static constexpr double radius = 0.03;
+  const contact::PointTree ball = nested_tree(sphere_pointshell(radius, 85 * 16), 85);
+  const contact::ImplicitShape floor = contact::HalfSpace(Eigen::Vector3d::UnitZ(), 0.0);
+  const PairScene scene{ball, floor, contact_options(HapticObject::pointshell),
+                        Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity()};
+  const double pressed = radius - 3.0 / HandModel{}.stiffness - 3.0 / coupling_stiffness;
+
+  /// The Harness's penetration measure: the ball's deepest point under the floor.
+  std::function<double(const Pose&)> penetration() const {
+    return [this](const Pose& grasp) {
+      return deepest_penetration(ball.pointshell().points, floor,
+                                 held_body_pose(grasp, Eigen::Vector3d::Zero()));
+    };
+  }
+};
+
 TEST(HapticHardCases, ANaNPoseOrADisconnectMidContactRendersZeroAtOnceAndRecovers) {
   // A 3 cm ball pressed onto a floor with 3 N of hand force (the coupling saturated). At 1.0 s
   // the device reports NaN positions for 5 reads, at 1.6 s it disconnects for 5 reads. The hand
   // keeps pushing through both, so the device sinks while nothing is rendered.
-  constexpr double radius = 0.03;
-  const contact::PointTree ball = nested_tree(sphere_pointshell(radius, 85 * 16), 85);
-  const contact::ImplicitShape floor = contact::HalfSpace(Eigen::Vector3d::UnitZ(), 0.0);
-  const PairScene scene(ball, floor, contact_options(HapticObject::pointshell),
-                        Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity());
+  const BallOnFloor b;
+  const double radius = BallOnFloor::radius, pressed = b.pressed;
   SafetyOptions safety;
   safety.ramp_cycles = 20;
   // This case is about the ramp: the hand never eases off, which the wait for a small force
   // would answer with silence to the end (SafeDevice's own tests cover that wait).
   safety.onset_force = std::numeric_limits<double>::infinity();
-  const HandModel hand;
-  const double pressed = radius - 3.0 / hand.stiffness - 3.0 / coupling_stiffness;
   Harness run(
       keyframe_target({{0.0, at({0.0, 0.0, radius + 0.02})}, {0.3, at({0.0, 0.0, pressed})}}),
-      scene, coupling_options(radius),
-      [&](const Pose& grasp) {
-        return deepest_penetration(ball.pointshell().points, floor,
-                                   held_body_pose(grasp, Eigen::Vector3d::Zero()));
-      },
-      safety);
+      b.scene, coupling_options(radius), b.penetration(), safety);
   constexpr int faulty = 5;
   run.run(1000);
   const Eigen::Vector3d steady = run.trace().back().record.rendered.force;
@@ -587,11 +596,11 @@ TEST(HapticHardCases, ANaNPoseOrADisconnectMidContactRendersZeroAtOnceAndRecover
     // queries it there (another hand's body could be touching it), and the record holds that
     // fresh contact, equal to a separate query at the held pose.
     const Pose held = run.trace().back().record.simulation;
-    contact::ContactWorkspace reference(ball, contact_options(HapticObject::pointshell));
+    contact::ContactWorkspace reference(b.ball, contact_options(HapticObject::pointshell));
     contact::ContactFrames frames;
     frames.pointshell = held_body_pose(held, Eigen::Vector3d::Zero());
     frames.grasp_point = held.position;
-    ASSERT_TRUE(contact::query_contact(ball, floor, frames, reference));
+    ASSERT_TRUE(contact::query_contact(b.ball, b.floor, frames, reference));
     const Eigen::Vector3d resting = reference.result().force;
     ASSERT_GT(resting.z(), 0.0) << "the ball rests on the floor";
     for (int i = 0; i < faulty; ++i) {
@@ -636,26 +645,15 @@ TEST(HapticHardCases, ANaNPoseOrADisconnectMidContactRendersZeroAtOnceAndRecover
 // press, and the stall gives the hand no energy: the passivity observer (CycleMetrics) never
 // falls below its value before the stall.
 TEST(HapticHardCases, AStalledLoopRendersNoSpikeAndGivesNoEnergy) {
-  constexpr double radius = 0.03;
-  const contact::PointTree ball = nested_tree(sphere_pointshell(radius, 85 * 16), 85);
-  const contact::ImplicitShape floor = contact::HalfSpace(Eigen::Vector3d::UnitZ(), 0.0);
-  const PairScene scene(ball, floor, contact_options(HapticObject::pointshell),
-                        Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity());
+  const BallOnFloor b;
+  const double radius = BallOnFloor::radius, pressed = b.pressed;
   SafetyOptions safety;
   safety.ramp_cycles = 20;
-  const HandModel hand;
-  const double pressed = radius - 3.0 / hand.stiffness - 3.0 / coupling_stiffness;
-  Harness run(
-      keyframe_target({{0.0, at({0.0, 0.0, radius + 0.02})},
-                       {0.3, at({0.0, 0.0, pressed})},
-                       {0.5, at({0.0, 0.0, pressed})},
-                       {3.5, at({0.15, 0.0, pressed})}}),
-      scene, coupling_options(radius),
-      [&](const Pose& grasp) {
-        return deepest_penetration(ball.pointshell().points, floor,
-                                   held_body_pose(grasp, Eigen::Vector3d::Zero()));
-      },
-      safety);
+  Harness run(keyframe_target({{0.0, at({0.0, 0.0, radius + 0.02})},
+                               {0.3, at({0.0, 0.0, pressed})},
+                               {0.5, at({0.0, 0.0, pressed})},
+                               {3.5, at({0.15, 0.0, pressed})}}),
+              b.scene, coupling_options(radius), b.penetration(), safety);
   run.run(1000);
   const double press = run.trace().back().record.rendered.force.norm();
   ASSERT_GT(press, 2.0) << "pressed";
