@@ -87,6 +87,25 @@ TEST(VirtualCoupling, FreeSpaceNewtonStepsReachTheManipulandum) {
   EXPECT_EQ(coupling.simulation_pose().position, step.simulation.position);
 }
 
+// The residual a step reports is eq. 4.1–4.2's net wrench where the step started: the contact
+// plus the coupling springs, k_VC (x_m − x_s) (eq. 4.13) and k_VC,torque sin(θ/2) along the axis
+// (eq. 4.14), before the step moves anything.
+TEST(VirtualCoupling, TheResidualIsTheNetWrenchWhereTheStepStarted) {
+  VirtualCoupling coupling(newton_options());
+  const Eigen::Vector3d axis = Eigen::Vector3d(1.0, -2.0, 0.5).normalized();
+  const double angle = 0.3;
+  const Pose manipulandum = rotated({0.004, -0.001, 0.002}, angle, axis);
+  ContactWrench contact;
+  contact.force = Eigen::Vector3d(0.5, 1.0, -2.0);
+  contact.torque = Eigen::Vector3d(0.01, 0.0, -0.02);
+  contact.force_by_translation = -2000.0 * Eigen::Matrix3d::Identity();
+  const CouplingStep step = coupling.step(manipulandum, contact);
+  ASSERT_TRUE(step.valid);
+  EXPECT_LE((step.residual.force - (contact.force + 500.0 * manipulandum.position)).norm(), 1e-15);
+  EXPECT_LE((step.residual.torque - (contact.torque + 2.0 * std::sin(angle / 2.0) * axis)).norm(),
+            1e-15);
+}
+
 // §4.8: each cycle moves by (1 − α) of the Newton step, so in free space the gap shrinks by α.
 TEST(VirtualCoupling, StaticDampingMovesAFractionOfTheStep) {
   CouplingOptions options = newton_options();

@@ -89,6 +89,8 @@ CouplingStep VirtualCoupling::step(const Pose& manipulandum,
       detail::clamp_magnitude(result.rendered.torque, m_options.max_rendered_torque);
   result.coupling.force = after.force;
   result.coupling.torque = after.torque;
+  result.residual.force = system.net_wrench.head<3>();
+  result.residual.torque = system.net_wrench.tail<3>();
   result.degenerate_dimension = solution.degenerate_dimension;
   result.coupling_saturated = before.force_saturated || before.torque_saturated;
   result.speed_limited = speed_limited;

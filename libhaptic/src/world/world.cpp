@@ -1,5 +1,4 @@
 #include <khz/contact/query/contact_query.hpp>
-#include <khz/haptic/coupling/coupling_wrench.hpp>
 #include <khz/haptic/world/world.hpp>
 
 #include <algorithm>
@@ -289,16 +288,13 @@ void World::step(double now) noexcept {
     r.penetration_voxels = hand.penetration_voxels;
     hand.rendered = Wrench{};
     if (!r.device_valid || !r.contact_valid) continue;
-    const CouplingWrench at_query = coupling_wrench(
-        hand.device_state.pose, hand.coupling.simulation_pose(), hand.coupling.options().springs());
     const CouplingStep step = hand.coupling.step(hand.device_state.pose, hand.wrench);
     r.coupling_valid = step.valid;
     r.degenerate_dimension = step.degenerate_dimension;
     r.coupling_saturated = step.coupling_saturated;
     if (!step.valid) continue;
     hand.rendered = step.rendered;
-    r.residual.force = hand.wrench.force + at_query.force;
-    r.residual.torque = hand.wrench.torque + at_query.torque;
+    r.residual = step.residual;
   }
   // 5. Each reduced body, once, under its summed reduced force.
   bool integrators_ok = true;

@@ -20,6 +20,10 @@ struct CouplingStep {
   Wrench rendered;
   /// F_VC, T_VC on the simulation object at its new pose (saturated, eq. 4.39).
   Wrench coupling;
+  /// F_C + F_VC, T_C + T_VC at the pose the step started from (eq. 4.1–4.2's net wrench, N and
+  /// N·m about the grasp point): how far from equilibrium the previous step left the simulation
+  /// object, with this cycle's manipulandum and contact.
+  Wrench residual;
   /// Dimension of §4.10's degenerate subspace this cycle (0: the system had full rank).
   int degenerate_dimension = 0;
   /// The coupling force or torque was beyond its linear part (eq. 4.39) when the step was solved.
