@@ -12,6 +12,10 @@ namespace {
 
 bool positive_finite(double value) noexcept { return std::isfinite(value) && value > 0.0; }
 
+/// The events that make a write send zero (and restart the ramp from zero).
+constexpr std::uint32_t zeroing_events =
+    safety_zeroed_read_failure | safety_zeroed_invalid_output | safety_zeroed_indexing;
+
 bool valid_reading(const DeviceState& state) noexcept {
   return detail::is_valid_pose(state.pose) && std::isfinite(state.time) &&
          (!state.has_linear_velocity || state.linear_velocity.allFinite()) &&
@@ -186,7 +190,7 @@ bool SafeDevice::write(const Wrench& wrench) noexcept {
     ++m_statistics.invalid_outputs;
     events |= safety_zeroed_invalid_output;
   }
-  if ((events & ~safety_after_deadline_miss) != 0) return send(Wrench{}, events);
+  if ((events & zeroing_events) != 0) return send(Wrench{}, events);
 
   const int output_dof = m_device.capabilities().output_dof;
   if (output_dof == 0) output.force.setZero();
@@ -210,8 +214,6 @@ bool SafeDevice::write(const Wrench& wrench) noexcept {
 }
 
 bool SafeDevice::send(const Wrench& output, std::uint32_t events) noexcept {
-  constexpr std::uint32_t zeroing_events =
-      safety_zeroed_read_failure | safety_zeroed_invalid_output | safety_zeroed_indexing;
   if ((events & zeroing_events) != 0) {
     m_ramp_step = 0;
     m_ramp_from = Wrench{};
