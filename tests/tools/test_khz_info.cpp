@@ -248,6 +248,29 @@ TEST(KhzInfo, CycleLog) {
   EXPECT_TRUE(has_line_with(run, {"failed cycles:", "1"}));
 }
 
+// A log written before the penetration, residual and energy columns existed is still a cycle
+// log to khz info, as it is to read_cycle_csv().
+TEST(KhzInfo, CycleLogOfAnEarlierVersion) {
+  std::vector<run::CycleRow> rows(3);
+  for (std::size_t i = 0; i < rows.size(); ++i) rows[i].time = 0.001 * static_cast<double>(i);
+  rows[1].contacts = 5;
+  const std::filesystem::path current = scratch_file("current_cycles.csv");
+  run::write_cycle_csv(rows, current);
+  const std::filesystem::path file = scratch_file("earlier_cycles.csv");
+  {
+    std::ifstream in(current);
+    std::ofstream out(file);
+    for (std::string line; std::getline(in, line);) {
+      for (int column = 0; column < 4; ++column) line.erase(line.rfind(','));
+      out << line << "\n";
+    }
+  }
+  const KhzRun run = khz_info(file);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(has_line_with(run, {"kind:", "khz run cycle log"}));
+  EXPECT_TRUE(has_line_with(run, {"cycles:", "3 (0.003 s at 1000 Hz), 1 in contact"}));
+}
+
 TEST(KhzInfo, PngImage) {
   const std::filesystem::path file = scratch_file("picture.png");
   render::write_png(render::Image(17, 9), file);

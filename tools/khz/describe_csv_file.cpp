@@ -39,7 +39,7 @@ void describe_csv_file(const std::string& file) {
   std::ifstream stream(file);
   std::string header;
   std::getline(stream, header);
-  if (header == run::cycle_csv_header()) {
+  if (run::is_cycle_csv_header(header)) {
     describe_cycle_log(file);
   } else {
     describe_trajectory_file(file);

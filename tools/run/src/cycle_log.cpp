@@ -126,6 +126,10 @@ std::string cycle_csv_header() {
   return legacy_csv_header() + ",penetration,penetration_voxels,residual_force,energy";
 }
 
+bool is_cycle_csv_header(const std::string& line) {
+  return line == cycle_csv_header() || line == legacy_csv_header();
+}
+
 void write_cycle_csv(const std::vector<CycleRow>& rows, const std::filesystem::path& file) {
   std::ofstream out(file, std::ios::binary);
   if (!out) throw reduced::IoError("cannot write " + file.string());
@@ -149,10 +153,10 @@ std::vector<CycleRow> read_cycle_csv(const std::filesystem::path& file) {
   if (!in) throw reduced::IoError("cannot read " + file.string());
   const std::string source = file.string();
   std::string line;
-  if (!std::getline(in, line) || (line != cycle_csv_header() && line != legacy_csv_header())) {
+  if (!std::getline(in, line) || !is_cycle_csv_header(line)) {
     throw reduced::ParseError::at_line(source, 1, "expected the header of a khz run cycle log");
   }
-  const int columns_here = line == cycle_csv_header() ? column_count : legacy_column_count;
+  const int columns_here = line == legacy_csv_header() ? legacy_column_count : column_count;
   std::vector<CycleRow> rows;
   std::int64_t line_number = 1;
   while (std::getline(in, line)) {

@@ -48,6 +48,10 @@ struct CycleRow {
 /// penetration_voxels, residual_force, energy.
 std::string cycle_csv_header();
 
+/// Whether `line` is the header of a cycle log read_cycle_csv() reads: cycle_csv_header(), or
+/// that of an earlier version without the last four columns.
+bool is_cycle_csv_header(const std::string& line);
+
 /// Writes the rows as CSV (header first; each number as the shortest text that reads back to
 /// the same double, so read_cycle_csv() returns the rows exactly).
 /// @throws reduced::IoError naming the file if it cannot be written.
