@@ -680,5 +680,47 @@ TEST(HapticHardCases, AStalledLoopRendersNoSpikeAndGivesNoEnergy) {
   EXPECT_LE(largest(trace, 0, trace.size(), [](const Sample& s) { return s.penetration; }), voxel);
 }
 
+
+// Start-up inside an object (issue 19 item 6): the held ball starts 1 cm deep in the floor, the
+// hand holds it there for 0.3 s, lifts it 2 cm over a second, and then presses it onto the floor
+// with 3 N. The coupling starts with its simulation object at the manipulandum, so its first
+// cycles ask for almost no force while the contact pushes the ball out; the force the hand then
+// feels is the saturated coupling's 3 N, which would arrive as a kick. The safety layer's wait
+// for a small force (1 N, CHAI3D's waitForSmallForce) also waits for the contact force on the
+// held ball (World passes it as the pending force): nothing is rendered while the hand is inside,
+// then at most the 1 N threshold, and the later press renders as usual.
+TEST(HapticHardCases, StartingInsideAnObjectRendersNothingUntilTheHandIsOut) {
+  const BallOnFloor b;
+  const double radius = BallOnFloor::radius, pressed = b.pressed;
+  SafetyOptions safety;
+  safety.ramp_cycles = 20;
+  Harness run(keyframe_target({{0.0, at({0.0, 0.0, radius - 0.01})},
+                               {0.3, at({0.0, 0.0, radius - 0.01})},
+                               {1.3, at({0.0, 0.0, radius + 0.01})},
+                               {1.6, at({0.0, 0.0, radius + 0.01})},
+                               {2.2, at({0.0, 0.0, pressed})}}),
+              b.scene, coupling_options(radius), b.penetration(), safety);
+  run.run(1600);
+  std::vector<Sample> trace = run.trace();
+  ASSERT_EQ(first_non_finite(trace), trace.size());
+  EXPECT_EQ(trace.front().record.rendered.force, Eigen::Vector3d::Zero());
+  EXPECT_GT(trace.front().record.contact.force.norm(), safety.onset_force)
+      << "the ball starts pressed into the floor";
+  const double strongest =
+      largest(trace, 0, trace.size(), [](const Sample& s) { return s.record.rendered.force.norm(); });
+  EXPECT_LE(strongest, safety.onset_force * (1.0 + round_off));
+  // No kick: a force stepping up to F on the hand's spring k_h gives it at most F²/2k_h of
+  // kinetic energy, 1.7 mJ at the threshold (the saturated coupling's 3 N would allow 15 mJ).
+  const double liveliest =
+      largest(trace, 0, trace.size(), [](const Sample& s) { return s.device_energy; });
+  EXPECT_LE(liveliest, safety.onset_force * safety.onset_force / (2.0 * HandModel{}.stiffness));
+  std::printf("start inside: strongest rendered force %.3f N, largest device energy %.2e J\n",
+              strongest, liveliest);
+  // Then an ordinary press renders the coupling's force.
+  run.run(1400);
+  EXPECT_GT(run.trace().back().record.rendered.force.z(), 2.0);
+  EXPECT_EQ(run.safe().last_write_events() & safety_waiting_for_small_force, 0u);
+}
+
 }  // namespace
 }  // namespace khz::haptic::hard_cases

@@ -188,6 +188,30 @@ TEST(SafeDevice, WaitsForASmallForceAfterOpeningAndNotAfterADeadlineMiss) {
   EXPECT_EQ(device.last_written().force, push.force);
 }
 
+TEST(SafeDevice, TheWaitForASmallForceAlsoWaitsForThePendingForce) {
+  NullDevice device;
+  WorkspaceMapping doubled;
+  doubled.force_scale = 2.0;
+  SafeDevice safe(device, {.onset_force = 1.0}, doubled);
+  safe.open();
+  DeviceState state;
+  const auto cycle = [&](const Wrench& w, double pending) {
+    safe.read(state);
+    safe.write(w, pending);
+    return device.last_written().force;
+  };
+  // Nothing asked for yet, but 0.6 virtual N pending is 1.2 device N: still waiting.
+  EXPECT_EQ(cycle(Wrench{}, 0.6), Eigen::Vector3d::Zero());
+  EXPECT_EQ(safe.last_write_events(), safety_waiting_for_small_force);
+  EXPECT_EQ(cycle(wrench({0.1, 0, 0}), nan), Eigen::Vector3d::Zero());
+  EXPECT_EQ(safe.last_write_events(), safety_waiting_for_small_force);
+  // 0.5 virtual N pending is the 1 N threshold: output resumes, and from then on the pending
+  // force does not matter.
+  EXPECT_EQ(cycle(wrench({0.1, 0, 0}), 0.5), Eigen::Vector3d(0.2, 0, 0));
+  EXPECT_EQ(cycle(wrench({0.1, 0, 0}), 100.0), Eigen::Vector3d(0.2, 0, 0));
+  EXPECT_EQ(safe.last_write_events(), 0u);
+}
+
 TEST(SafeDevice, NonFiniteOutputNeverReachesTheDevice) {
   Rig rig;
   for (const Wrench& bad : {wrench({nan, 0, 0}), wrench({1, 0, 0}, {0, 0, INFINITY})}) {

@@ -170,7 +170,7 @@ bool SafeDevice::read(DeviceState& state) noexcept {
   return true;
 }
 
-bool SafeDevice::write(const Wrench& wrench) noexcept {
+bool SafeDevice::write(const Wrench& wrench, double pending_force) noexcept {
   std::uint32_t events = 0;
   if (!m_input_ok) events |= safety_zeroed_read_failure;
   if (m_pending_miss) {
@@ -196,7 +196,10 @@ bool SafeDevice::write(const Wrench& wrench) noexcept {
   if (output_dof == 0) output.force.setZero();
   if (output_dof < 6) output.torque.setZero();
   if (m_waiting_for_small_force) {
-    if (!(detail::magnitude(output.force) <= m_options.onset_force)) {
+    const double onset = m_options.onset_force;
+    const bool small = std::isinf(onset) || (detail::magnitude(output.force) <= onset &&
+                                             m_mapping.force_scale * pending_force <= onset);
+    if (!small) {
       return send(Wrench{}, safety_waiting_for_small_force);
     }
     m_waiting_for_small_force = false;

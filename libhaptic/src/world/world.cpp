@@ -314,7 +314,9 @@ void World::step(double now) noexcept {
     CycleRecord& r = d.records[h];
     r.integrators_ok = integrators_ok;
     r.simulation = hand.coupling.simulation_pose();
-    hand.hand.device->write(hand.rendered);
+    // The contact force on the held body is what the coupling renders once it has stretched:
+    // the wait for a small force (after the start or a device fault) waits for it too.
+    hand.hand.device->write(hand.rendered, hand.wrench.force.norm());
     r.rendered = hand.hand.device->last_output();
     r.observed_energy = hand.metrics.record(r, hand.hand.device->mapping());
   }

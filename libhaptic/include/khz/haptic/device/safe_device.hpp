@@ -134,7 +134,15 @@ class KHZ_HAPTIC_API SafeDevice {
   bool read(DeviceState& state) noexcept;
   /// Maps a virtual-world wrench to the device, applies the checks above and sends it. Returns
   /// the device's write() result.
-  bool write(const Wrench& wrench) noexcept;
+  bool write(const Wrench& wrench) noexcept { return write(wrench, 0.0); }
+  /// write(wrench) for an application whose wrench lags what it will render: while waiting for a
+  /// small force, output also stays zero until `pending_force` (virtual-world N, scaled by the
+  /// mapping's force_scale like the wrench) is at most SafetyOptions::onset_force. A virtual
+  /// coupling that starts with its simulation object at the manipulandum asks for no force in
+  /// its first cycle even when the held body starts deep inside another: the contact force on
+  /// the body, what the coupling will render once it has stretched, is the pending force then
+  /// (World passes it). NaN counts as large. Outside the wait it has no effect.
+  bool write(const Wrench& wrench, double pending_force) noexcept;
 
   /// Starts a cycle with its deadline (s, on the loop's clock; the same clock as end_cycle()).
   void begin_cycle(double deadline) noexcept;
