@@ -680,7 +680,6 @@ TEST(HapticHardCases, AStalledLoopRendersNoSpikeAndGivesNoEnergy) {
   EXPECT_LE(largest(trace, 0, trace.size(), [](const Sample& s) { return s.penetration; }), voxel);
 }
 
-
 // Start-up inside an object (issue 19 item 6): the held ball starts 1 cm deep in the floor, the
 // hand holds it there for 0.3 s, lifts it 2 cm over a second, and then presses it onto the floor
 // with 3 N. The coupling starts with its simulation object at the manipulandum, so its first
@@ -706,8 +705,8 @@ TEST(HapticHardCases, StartingInsideAnObjectRendersNothingUntilTheHandIsOut) {
   EXPECT_EQ(trace.front().record.rendered.force, Eigen::Vector3d::Zero());
   EXPECT_GT(trace.front().record.contact.force.norm(), safety.onset_force)
       << "the ball starts pressed into the floor";
-  const double strongest =
-      largest(trace, 0, trace.size(), [](const Sample& s) { return s.record.rendered.force.norm(); });
+  const double strongest = largest(trace, 0, trace.size(),
+                                   [](const Sample& s) { return s.record.rendered.force.norm(); });
   EXPECT_LE(strongest, safety.onset_force * (1.0 + round_off));
   // No kick: a force stepping up to F on the hand's spring k_h gives it at most F²/2k_h of
   // kinetic energy, 1.7 mJ at the threshold (the saturated coupling's 3 N would allow 15 mJ).
