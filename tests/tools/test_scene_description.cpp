@@ -309,7 +309,8 @@ TEST(SceneDescription, EverySettingReachesItsMember) {
       "capabilities": {"max_force": 5, "output_dof": 3},
       "mapping": {"scale": 2, "offset": {"position": [0, 0, 0.5]}, "force_scale": 0.5},
       "safety": {"max_force": 4, "ramp_cycles": 10, "index_button": 0,
-                 "index_orientation": false}
+                 "index_orientation": false, "passivity_control": true,
+                 "passivity_max_damping": 3, "passivity_max_rotational_damping": 0.01}
     },
     "loop": {"rate_hz": 500, "duration": 2.5, "realtime_priority": true, "priority": 90,
              "cpu": 1}
@@ -417,6 +418,9 @@ TEST(SceneDescription, EverySettingReachesItsMember) {
   EXPECT_EQ(device.safety.max_force, 4.0);
   EXPECT_EQ(device.safety.index_button, 0);
   EXPECT_FALSE(device.safety.index_orientation);
+  EXPECT_TRUE(device.safety.passivity_control);
+  EXPECT_EQ(device.safety.passivity_max_damping, 3.0);
+  EXPECT_EQ(device.safety.passivity_max_rotational_damping, 0.01);
 
   EXPECT_EQ(s.loop.rate_hz, 500.0);
   EXPECT_EQ(s.duration, 2.5);

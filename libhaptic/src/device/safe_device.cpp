@@ -45,6 +45,12 @@ void SafetyOptions::validate() const {
   if (std::isnan(onset_force) || onset_force < 0.0) {
     throw Error("safety options: onset_force must be >= 0 (N; infinity for no wait)");
   }
+  if (!positive_finite(passivity_max_damping) ||
+      !positive_finite(passivity_max_rotational_damping)) {
+    throw Error(
+        "safety options: passivity_max_damping (N s/m) and passivity_max_rotational_damping "
+        "(N m s/rad) must be finite and > 0");
+  }
   if (index_button < -1 || index_button > 31) {
     throw Error("safety options: index_button must be -1 (none) or a bit index in [0, 31], not " +
                 std::to_string(index_button));
@@ -86,6 +92,7 @@ void SafeDevice::restart() noexcept {
   m_ramp_from = Wrench{};
   m_waiting_for_small_force = true;
   m_virtual_state.valid = false;
+  m_passivity.restart();
 }
 
 void SafeDevice::update_limits() noexcept {
@@ -98,6 +105,7 @@ void SafeDevice::update_limits() noexcept {
 void SafeDevice::set_options(const SafetyOptions& options) {
   options.validate();
   m_options = options;
+  m_passivity.set_limits(options.passivity_max_damping, options.passivity_max_rotational_damping);
   update_limits();
 }
 
@@ -123,6 +131,7 @@ bool SafeDevice::read(DeviceState& state) noexcept {
   if (!device_ok || !valid_reading(m_device_state)) {
     ++(device_ok ? m_statistics.invalid_inputs : m_statistics.read_failures);
     m_input_ok = false;
+    m_passivity.interrupt();
     state = m_virtual_state;
     state.valid = false;
     return false;
@@ -130,6 +139,8 @@ bool SafeDevice::read(DeviceState& state) noexcept {
   m_input_ok = true;
   DeviceState& device = m_device_state;
   device.pose.orientation.normalize();
+  m_passivity.observe(device.pose, device.time, m_last_output,
+                      1.0 / m_device.capabilities().nominal_rate);
 
   const bool held =
       m_options.index_button >= 0 && ((device.buttons >> m_options.index_button) & 1u) != 0;
@@ -192,9 +203,6 @@ bool SafeDevice::write(const Wrench& wrench, double pending_force) noexcept {
   }
   if ((events & zeroing_events) != 0) return send(Wrench{}, events);
 
-  const int output_dof = m_device.capabilities().output_dof;
-  if (output_dof == 0) output.force.setZero();
-  if (output_dof < 6) output.torque.setZero();
   if (m_waiting_for_small_force) {
     const double onset = m_options.onset_force;
     const bool small = std::isinf(onset) || (detail::magnitude(output.force) <= onset &&
@@ -204,6 +212,13 @@ bool SafeDevice::write(const Wrench& wrench, double pending_force) noexcept {
     }
     m_waiting_for_small_force = false;
   }
+  if (m_options.passivity_control && m_passivity.damp(output)) {
+    events |= safety_passivity_damping;
+    ++m_statistics.passivity_damped_writes;
+  }
+  const int output_dof = m_device.capabilities().output_dof;
+  if (output_dof == 0) output.force.setZero();
+  if (output_dof < 6) output.torque.setZero();
   if (detail::clamp_magnitude(output.force, m_force_limit)) events |= safety_clamped_force;
   if (detail::clamp_magnitude(output.torque, m_torque_limit)) events |= safety_clamped_torque;
   if (m_ramp_step < m_options.ramp_cycles) {

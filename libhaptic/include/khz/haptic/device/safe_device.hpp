@@ -5,6 +5,7 @@
 
 #include <khz/haptic/common.hpp>
 #include <khz/haptic/device/device.hpp>
+#include <khz/haptic/device/passivity_controller.hpp>
 #include <khz/haptic/export.hpp>
 
 #include <cstdint>
@@ -52,6 +53,17 @@ struct KHZ_HAPTIC_API SafetyOptions {
   /// a kick. Deadline misses and indexing keep the pose continuous and only ramp. Infinity
   /// disables the wait.
   double onset_force = 1.0;
+  /// Time-domain passivity control (Hannaford & Ryu 2002), off by default. An observer sums the
+  /// work each held output has done on the hand (device units, translation and rotation apart);
+  /// when the simulation has given back more than the hand put in, the next outputs get a damper
+  /// along the device's velocity sized to take the excess back, at most the limits below. For
+  /// loops whose settings inject energy (a coupling stiffer than the device can render at its
+  /// rate, delays); the bundled settings are passive without it (docs/DEVICES.md).
+  bool passivity_control = false;
+  /// Largest damping the controller adds: device N·s/m and N·m·s/rad, > 0. Keep them below what
+  /// the device renders stably as a damper at its rate.
+  double passivity_max_damping = 10.0;
+  double passivity_max_rotational_damping = 0.05;
   /// Bit index of the indexing (clutch) button; -1 disables workspace indexing.
   int index_button = -1;
   /// Index orientation too (true) or only position (false: orientation keeps following the
@@ -60,8 +72,8 @@ struct KHZ_HAPTIC_API SafetyOptions {
   /// Render zero while the index button is held (the user is repositioning the device).
   bool zero_output_while_indexing = true;
 
-  /// @throws Error naming a negative or NaN limit or tolerance, a negative ramp, an index button
-  ///         outside [-1, 31].
+  /// @throws Error naming a negative or NaN limit or tolerance, a negative ramp, a passivity
+  ///         damping limit that is not finite and > 0, an index button outside [-1, 31].
   void validate() const;
 };
 
@@ -72,12 +84,13 @@ struct SafetyStatistics {
   std::uint64_t invalid_inputs = 0;  ///< A reading with a non-finite or non-unit pose, or a
                                      ///< non-finite velocity or time.
   std::uint64_t writes = 0;
-  std::uint64_t clamped_writes = 0;         ///< Force or torque scaled down to its limit.
-  std::uint64_t zeroed_writes = 0;          ///< Zero sent because of a fault (any reason below).
-  std::uint64_t invalid_outputs = 0;        ///< The wrench given to write() was not finite.
-  std::uint64_t deadline_misses = 0;        ///< Cycles that ended after deadline + tolerance.
-  std::uint64_t indexed_cycles = 0;         ///< Reads with the index button held.
-  std::uint64_t device_write_failures = 0;  ///< The device's write() returned false.
+  std::uint64_t clamped_writes = 0;           ///< Force or torque scaled down to its limit.
+  std::uint64_t zeroed_writes = 0;            ///< Zero sent because of a fault (any reason below).
+  std::uint64_t invalid_outputs = 0;          ///< The wrench given to write() was not finite.
+  std::uint64_t deadline_misses = 0;          ///< Cycles that ended after deadline + tolerance.
+  std::uint64_t indexed_cycles = 0;           ///< Reads with the index button held.
+  std::uint64_t device_write_failures = 0;    ///< The device's write() returned false.
+  std::uint64_t passivity_damped_writes = 0;  ///< Writes the passivity controller damped.
 };
 
 /// What happened to the last write, as bits (SafeDevice::last_write_events()).
@@ -92,6 +105,8 @@ enum SafetyEvent : std::uint32_t {
   safety_ramping = 1u << 6,  ///< On the ramp after a zeroed write or a deadline miss.
   /// Zero: waiting, after the start or a failed read, for the force to fall to onset_force.
   safety_waiting_for_small_force = 1u << 7,
+  /// The passivity controller added damping (SafetyOptions::passivity_control).
+  safety_passivity_damping = 1u << 8,
 };
 
 /// The layer between the haptic loop and a Device. Every cycle:
@@ -157,6 +172,12 @@ class KHZ_HAPTIC_API SafeDevice {
   /// SafetyEvent bits of the last write.
   std::uint32_t last_write_events() const noexcept { return m_last_events; }
   const SafetyStatistics& statistics() const noexcept { return m_statistics; }
+  /// The passivity observer since open() (J, device units; translation plus rotation): the work
+  /// the hand has done on the simulation through the device. Kept whether or not
+  /// SafetyOptions::passivity_control is on; below zero the simulation has injected energy.
+  double observed_energy() const noexcept {
+    return m_passivity.translational_energy() + m_passivity.rotational_energy();
+  }
   void reset_statistics() noexcept { m_statistics = {}; }
 
   const WorkspaceMapping& mapping() const noexcept { return m_mapping; }
@@ -197,6 +218,7 @@ class KHZ_HAPTIC_API SafeDevice {
   int m_ramp_step = 0;  // writes since the last zeroed one or miss, capped at ramp_cycles
   Wrench m_ramp_from;   // where the ramp starts (device axes): zero, or the output held late
   bool m_waiting_for_small_force = true;  // since the start or the last failed read
+  PassivityController m_passivity;
 
   Wrench m_last_output;
   std::uint32_t m_last_events = 0;
