@@ -429,11 +429,15 @@ TEST(SafeDevice, FaultsMidContactZeroTheWrenchWithinOneCycleAndRecover) {
 }
 
 TEST(SafeDevice, ReadAndWriteDoNotAllocate) {
-  Rig rig({.ramp_cycles = 3, .index_button = 0},
+  Rig rig({.ramp_cycles = 3, .passivity_control = true, .index_button = 0},
           {.scale = 2.0, .offset = {}, .force_scale = 1.0, .torque_scale = 1.0});
   test::allocation_count = 0;
   for (int i = 0; i < 100; ++i) {
     rig.device.set_buttons(i % 10 < 3 ? 1u : 0u);
+    // Moving along the force pushing it: the passivity controller sees energy given and damps.
+    Pose moving;
+    moving.position.x() = 1e-3 * i;
+    rig.device.set_pose(moving);
     rig.safe.begin_cycle(0.001 * i);
     rig.cycle(wrench({i % 7 == 0 ? nan : 20.0, 1, 0}, {0, 2, 0}));
     rig.safe.end_cycle(0.001 * i + (i % 13 == 0 ? 1.0 : 0.0));
@@ -441,6 +445,7 @@ TEST(SafeDevice, ReadAndWriteDoNotAllocate) {
   EXPECT_EQ(test::allocation_count.load(), 0u);
   EXPECT_GT(rig.safe.statistics().deadline_misses, 0u);
   EXPECT_GT(rig.safe.statistics().clamped_writes, 0u);
+  EXPECT_GT(rig.safe.statistics().passivity_damped_writes, 0u);
 }
 
 }  // namespace
