@@ -131,14 +131,26 @@ TEST(KhzReport, WritesTablesAndPlots) {
         "| budget 50 us |", "![speed against error](speed_vs_error.png)", "frames/frame_00000.png",
         "## Smoothness, steadiness and passivity", "| contact force jump |",
         "| equilibrium residual |", "Passivity observer", "![force jumps](jumps.png)",
-        "![passivity observer](energy.png)"}) {
+        "![passivity observer](energy.png)", "## Stability map", "| as given | yes |",
+        "| loop.rate_hz = 4000 |", "![stability map](stability.png)"}) {
     EXPECT_NE(report.find(text), std::string::npos) << text << "\n" << report;
   }
-  for (const char* plot :
-       {"force.png", "torque.png", "cost.png", "jumps.png", "energy.png", "speed_vs_error.png"}) {
+  for (const char* plot : {"force.png", "torque.png", "cost.png", "jumps.png", "energy.png",
+                           "speed_vs_error.png", "stability.png"}) {
     const render::Image image = render::read_png(out / plot);
     EXPECT_GT(image.width(), 100) << plot;
   }
+  EXPECT_TRUE(has_line_with(run, {"stability map: the scene run 12 times"}));
+  EXPECT_TRUE(has_line_with(run, {"loop.rate_hz = 500:", "stable"}));
+
+  // --no-stability leaves the map out.
+  const std::filesystem::path quick = scratch_directory("report_quick");
+  const KhzRun without =
+      khz("report \"" + scene.string() + "\" --out \"" + quick.string() + "\" --cache \"" +
+          scratch_directory("cache").string() + "\" --frames 0 --no-stability");
+  ASSERT_EQ(without.exit_code, 0) << without.output;
+  EXPECT_EQ(read_bytes(quick / "report.md").find("## Stability map"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(quick / "stability.png"));
 }
 
 TEST(KhzRun, RefusesTwoDevicesAndAMissingBackend) {

@@ -26,7 +26,7 @@ std::vector<std::filesystem::path> some_frames(const std::vector<std::filesystem
   return chosen;
 }
 
-void report(const RunRequest& request) {
+void report(const RunRequest& request, bool stability) {
   SceneSession session(request);
   RunResult result = session.run(true);
   scene::SceneRuntime& runtime = session.runtime();
@@ -45,6 +45,28 @@ void report(const RunRequest& request) {
                          });
   bar.clear();
   std::cout << "replayed " << sweep.front().states << " states in contact under each setting\n";
+  std::vector<run::StabilityPoint> stability_points;
+  if (stability) {
+    const std::vector<run::StabilitySetting> runs =
+        run::default_stability_settings(session.prepared().description);
+    std::cout << "stability map: the scene run " << runs.size()
+              << " times, one parameter changed at a time (--no-stability skips it)\n";
+    stability_points =
+        run::stability_map(session.prepared(), runs, request.duration, session.devices(),
+                           [&](const reduced::Progress& progress) {
+                             bar.update("stability map: " + std::string(progress.stage), progress);
+                             return !interrupt.requested();
+                           });
+    bar.clear();
+    for (const run::StabilityPoint& point : stability_points) {
+      std::cout << "  " << point.setting.name() << ": "
+                << (!point.refused.empty() ? "refused (" + point.refused + ")"
+                    : point.smooth()       ? "stable and smooth"
+                    : point.stable()       ? "stable, not smooth"
+                                           : "UNSTABLE")
+                << "\n";
+    }
+  }
   run::ReportInput input;
   input.scene = request.scene;
   input.description = runtime.description().description;
@@ -53,6 +75,7 @@ void report(const RunRequest& request) {
   input.rows = std::move(result.rows.front());
   input.metrics = runtime.world().metrics(0);
   input.sweep = sweep;
+  input.stability = std::move(stability_points);
   input.frames = some_frames(result.frames, session.out(), 4);
   const run::ReportFiles files = run::write_report(session.out(), input);
   std::cout << "wrote " << files.markdown.string() << "\n";
@@ -65,10 +88,14 @@ void add_report_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "report",
       "Run a scene as `khz run` does, then replay its states in contact at every level of "
-      "detail and under time budgets, and write report.md with PNG plots: force and torque "
-      "over time, per-cycle cost, and the contact query's speed against error");
+      "detail and under time budgets, run it again with one parameter changed at a time "
+      "(the stability map), and write report.md with PNG plots: force and torque over time, "
+      "per-cycle cost, the contact query's speed against error, and stability");
   add_run_options(*command, *request);
-  command->callback([request] { report(*request); });
+  auto no_stability = std::make_shared<bool>(false);
+  command->add_flag("--no-stability", *no_stability,
+                    "Skip the stability map (it runs the scene about a dozen times)");
+  command->callback([request, no_stability] { report(*request, !*no_stability); });
 }
 
 }  // namespace khz::tool

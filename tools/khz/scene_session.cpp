@@ -105,16 +105,15 @@ SceneSession::SceneSession(const RunRequest& request)
                 ? std::filesystem::path("khz-run") / std::filesystem::path(request.scene).stem()
                 : std::filesystem::path(request.out)) {
   const scene::SceneDescription description = scene::read_scene(request.scene);
-  std::vector<scene::DeviceDescription> devices =
-      run::choose_devices(description, device_choice(request));
+  m_devices = run::choose_devices(description, device_choice(request));
   // A device khz cannot make (a hardware backend: none is built in) is refused before a
   // possibly long preparation.
-  for (const scene::DeviceDescription& device : devices) {
+  for (const scene::DeviceDescription& device : m_devices) {
     if (device.type == scene::DeviceType::hardware) scene::make_device(device);  // throws
   }
   m_prepared =
       prepare_with_progress(description, cache_directory(request.cache, request.scene), std::cout);
-  m_runtime = std::make_unique<scene::SceneRuntime>(m_prepared, std::move(devices));
+  m_runtime = std::make_unique<scene::SceneRuntime>(m_prepared, m_devices);
 }
 
 SceneSession::~SceneSession() = default;

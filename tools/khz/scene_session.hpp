@@ -52,6 +52,10 @@ class SceneSession {
   /// The output directory: --out, or khz-run/<scene file stem>.
   const std::filesystem::path& out() const noexcept { return m_out; }
   scene::SceneRuntime& runtime() noexcept { return *m_runtime; }
+  /// The prepared scene the runtime runs (run::stability_map() varies its description).
+  scene::PreparedScene& prepared() noexcept { return m_prepared; }
+  /// The devices the runtime runs with, one per hand (the scene's, or the command line's).
+  const std::vector<scene::DeviceDescription>& devices() const noexcept { return m_devices; }
 
   /// Runs the scene (run::run_scene(); run::run_scene_realtime() with --realtime or a hardware
   /// device, without frames), writes each hand's cycle CSV and the frames, prints the summary. With
@@ -68,6 +72,7 @@ class SceneSession {
   RunRequest m_request;
   std::filesystem::path m_out;
   scene::PreparedScene m_prepared;
+  std::vector<scene::DeviceDescription> m_devices;
   std::unique_ptr<scene::SceneRuntime> m_runtime;
 };
 

@@ -2,6 +2,7 @@
 #include <khz/reduced/errors.hpp>
 #include <khz/run/run_report.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 
@@ -72,6 +73,79 @@ void write_metrics(std::ostream& out, const haptic::CycleMetricsSummary& m,
       << "![passivity observer](" << files.energy_plot.filename().string() << ")\n\n";
 }
 
+/// The stability map's section: one row a setting, then the plot.
+void write_stability(std::ostream& out, const std::vector<StabilityPoint>& points,
+                     const ReportFiles& files) {
+  out << "## Stability map\n\n"
+      << "The scene run again with one parameter changed at a time. Stable: every value finite "
+         "and the passivity observer never below "
+      << format("%.3g", -passive_tolerance)
+      << " J. Smooth: stable, with contact- and rendered-force jump p99 at most "
+      << format("%.0f", smooth_jump_percent) << " % of their peaks.\n\n"
+      << "| setting | stable | smooth | contact jump p99 | rendered jump p99 | peak contact | "
+         "deepest | observer lowest | still step p99 |\n"
+         "|---|---|---|---|---|---|---|---|---|\n";
+  for (const StabilityPoint& p : points) {
+    out << "| " << p.setting.name() << " | ";
+    if (!p.refused.empty()) {
+      out << "refused: " << p.refused << " | | | | | | | |\n";
+      continue;
+    }
+    out << (p.stable() ? "yes" : "**no**") << " | " << (p.smooth() ? "yes" : "no") << " | "
+        << format("%.1f %%", p.contact_jump_p99) << " | " << format("%.1f %%", p.rendered_jump_p99)
+        << " | " << format("%.3g N", p.peak_contact_force) << " | "
+        << format("%.2f voxels", p.deepest_voxels) << " | " << format("%.3g J", p.lowest_energy)
+        << " | " << (p.still_cycles > 0 ? format("%.3g µm", 1e6 * p.still_step_p99) : "–")
+        << " |\n";
+  }
+  out << "\n![stability map](" << files.stability_plot.filename().string() << ")\n\n";
+}
+
+/// Contact-force jump p99 against value ÷ the scene's value, one series a parameter, the
+/// unstable points marked apart, and the 5 % target.
+void plot_stability(const std::filesystem::path& file, const std::vector<StabilityPoint>& points) {
+  constexpr render::Color purple{148, 103, 189}, red{214, 39, 40}, grey{127, 127, 127};
+  std::vector<plot::Series> series;
+  const std::pair<StabilityParameter, render::Color> parameters[] = {
+      {StabilityParameter::contact_stiffness, blue},
+      {StabilityParameter::coupling_stiffness, orange},
+      {StabilityParameter::saturation_force, green},
+      {StabilityParameter::static_damping, purple},
+      {StabilityParameter::rate, grey}};
+  double as_given = 0.0;
+  for (const StabilityPoint& p : points) {
+    if (p.setting.as_given) as_given = p.contact_jump_p99;
+  }
+  for (const auto& [parameter, color] : parameters) {
+    std::vector<std::pair<double, double>> line{{1.0, as_given}};
+    for (const StabilityPoint& p : points) {
+      if (p.setting.as_given || p.setting.parameter != parameter || !p.refused.empty()) continue;
+      line.emplace_back(p.factor, p.contact_jump_p99);
+    }
+    if (line.size() < 2) continue;
+    std::sort(line.begin(), line.end());
+    plot::Series curve{std::string(parameter_key(parameter)), {}, {}, color, true};
+    for (const auto& [x, y] : line) {
+      curve.x.push_back(x);
+      curve.y.push_back(y);
+    }
+    series.push_back(std::move(curve));
+  }
+  plot::Series unstable{"unstable", {}, {}, red, true};
+  for (const StabilityPoint& p : points) {
+    if (!p.refused.empty() || p.stable()) continue;
+    unstable.x.push_back(p.factor);
+    unstable.y.push_back(p.contact_jump_p99);
+  }
+  if (!unstable.x.empty()) series.push_back(std::move(unstable));
+  series.push_back({"target", {0.25, 4.0}, {smooth_jump_percent, smooth_jump_percent}, red, false});
+  plot::write_line_plot(
+      file,
+      {"Stability map: one parameter changed at a time", "value / the scene's value",
+       "contact force jump p99 (% of peak)", 1000, 600, true, false},
+      series);
+}
+
 void write_markdown(const std::filesystem::path& file, const ReportInput& input,
                     const RunSummary& s, const ReportFiles& files) {
   std::ofstream out(file);
@@ -118,6 +192,7 @@ void write_markdown(const std::filesystem::path& file, const ReportInput& input,
     }
     out << "\n![speed against error](" << files.speed_plot.filename().string() << ")\n\n";
   }
+  if (!input.stability.empty()) write_stability(out, input.stability, files);
   if (!input.frames.empty()) {
     out << "## Frames\n\nYellow: pointshell points the query looked at; red: points in contact "
            "(drawn through the other object); green: the contact force on the held object.\n\n";
@@ -138,6 +213,7 @@ ReportFiles write_report(const std::filesystem::path& directory, const ReportInp
                     directory / "cost.png",
                     directory / "jumps.png",
                     directory / "energy.png",
+                    {},
                     {}};
   const std::vector<CycleRow>& rows = input.rows;
   plot::write_line_plot(
@@ -178,6 +254,10 @@ ReportFiles write_report(const std::filesystem::path& directory, const ReportInp
                           {"Contact query: speed against force error", "microseconds per query",
                            "force error RMS (%)"},
                           {levels, budgets, reference});
+  }
+  if (!input.stability.empty()) {
+    files.stability_plot = directory / "stability.png";
+    plot_stability(files.stability_plot, input.stability);
   }
   write_markdown(files.markdown, input, summarize(rows, 1.0 / input.rate_hz), files);
   return files;

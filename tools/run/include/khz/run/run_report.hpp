@@ -1,11 +1,13 @@
 #pragma once
 // The report `khz report` writes: Markdown with the run's figures, its smoothness, steadiness
-// and passivity, and the contact query's speed against error, and PNG plots of force, torque,
-// force jumps, the passivity observer, per-cycle cost and speed against error.
+// and passivity, the contact query's speed against error and the stability map, and PNG plots of
+// force, torque, force jumps, the passivity observer, per-cycle cost, speed against error and
+// stability.
 
 #include <khz/run/contact_sweep.hpp>
 #include <khz/run/cycle_log.hpp>
 #include <khz/run/run_summary.hpp>
+#include <khz/run/stability_map.hpp>
 
 #include <filesystem>
 #include <string>
@@ -22,6 +24,8 @@ struct ReportInput {
   /// The runtime's figures for the same hand (haptic::World::metrics() after the run).
   haptic::CycleMetricsSummary metrics;
   std::vector<SweepResult> sweep;  ///< First entry: the reference (may be empty: no contact).
+  /// The stability map (may be empty: not run); the first point is the scene as given.
+  std::vector<StabilityPoint> stability;
   /// Frame pictures to show, relative to the report's directory.
   std::vector<std::filesystem::path> frames;
 };
@@ -37,6 +41,8 @@ struct ReportFiles {
   /// energy.png: the passivity observer over time (below zero: energy given to the hand).
   std::filesystem::path energy_plot;
   std::filesystem::path speed_plot;  ///< speed_vs_error.png (only with a sweep).
+  /// stability.png: contact-force jump p99 against each parameter's factor (only with a map).
+  std::filesystem::path stability_plot;
 };
 
 /// Writes report.md and the plots into `directory` (created if needed).
