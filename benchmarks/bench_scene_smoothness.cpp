@@ -1,0 +1,185 @@
+// Issue 19's item-2 figures on the bundled scenes at full settings, and optionally their stability
+// maps: per scene, the run as bundled (contact- and rendered-force jump p99 as % of the peaks,
+// deepest penetration in voxels, the passivity observer's lowest value, cycles the time budget
+// cut), the contact force's error against the full traversal over the run's states in contact,
+// and a steady press: the scene's device held still for 0.5 s from the cycle of its largest
+// contact force, the simulation pose's step and turn once the hand has been still for 0.1 s
+// (targets: jump p99 ≤ 5 %, steady press ≤ 1 µm and ≤ 1e-4 rad). A plain program (CLI11): the
+// first run prepares the scenes into --cache (minutes), later runs read them.
+
+#include <khz/run/contact_sweep.hpp>
+#include <khz/run/run_scene.hpp>
+#include <khz/run/run_summary.hpp>
+#include <khz/run/stability_map.hpp>
+#include <khz/scene/make_device.hpp>
+#include <khz/scene/prepare_scene.hpp>
+#include <khz/scene/product_cache.hpp>
+#include <khz/scene/read_scene.hpp>
+#include <khz/scene/scene_runtime.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace khz;
+
+/// A scene's device that stops moving at `hold_time`: from then on every reading reports the
+/// pose it had there, at rest (the device's clock and buttons go on).
+class HeldStill final : public haptic::Device {
+ public:
+  HeldStill(std::unique_ptr<haptic::Device> device, double hold_time)
+      : m_device(std::move(device)), m_hold_time(hold_time) {}
+  void open() override {
+    m_device->open();
+    m_held = false;
+  }
+  void close() noexcept override { m_device->close(); }
+  bool is_open() const noexcept override { return m_device->is_open(); }
+  const haptic::DeviceCapabilities& capabilities() const noexcept override {
+    return m_device->capabilities();
+  }
+  bool read(haptic::DeviceState& state) noexcept override {
+    if (!m_device->read(state)) return false;
+    if (state.time >= m_hold_time && !m_held) {
+      m_pose = state.pose;
+      m_held = true;
+    }
+    if (m_held) {
+      state.pose = m_pose;
+      state.linear_velocity.setZero();
+      state.angular_velocity.setZero();
+    }
+    return true;
+  }
+  bool write(const haptic::Wrench& wrench) noexcept override { return m_device->write(wrench); }
+
+ private:
+  std::unique_ptr<haptic::Device> m_device;
+  double m_hold_time;
+  bool m_held = false;
+  haptic::Pose m_pose;
+};
+
+struct SceneFigures {
+  double contact_jump = 0, rendered_jump = 0, deepest_voxels = 0, lowest_energy = 0;
+  std::int64_t cut_cycles = 0, cycles = 0;
+  double force_error = 0, max_force_error = 0;
+  double hold_time = 0, still_step_p99 = 0, still_step_max = 0, still_turn_p99 = 0,
+         still_turn_max = 0;
+  std::int64_t still_cycles = 0;
+};
+
+SceneFigures measure(scene::PreparedScene& prepared) {
+  SceneFigures f;
+  const double rate = prepared.description.loop.rate_hz;
+  // The run as bundled, every state kept for the error against the full traversal.
+  scene::SceneRuntime runtime(prepared);
+  std::vector<run::RecordedState> states;
+  run::RunOptions options;
+  options.frame_every = 1;
+  options.on_frame = [&](int, scene::SceneRuntime& r) {
+    states.push_back(run::record_state(r));
+    return true;
+  };
+  const run::HandRows rows = run::run_scene(runtime, options);
+  const haptic::CycleMetricsSummary m = runtime.world().metrics(0);
+  const run::RunSummary summary = run::summarize(rows.front(), 1.0 / rate);
+  f.contact_jump = run::percent_of(m.contact_force_jump.p99, m.peak_contact_force);
+  f.rendered_jump = run::percent_of(m.rendered_force_jump.p99, m.peak_rendered_force);
+  f.deepest_voxels = m.deepest_penetration_voxels;
+  f.lowest_energy = m.lowest_energy;
+  f.cut_cycles = summary.incomplete_cycles;
+  f.cycles = summary.cycles;
+
+  // The scene's own contact options against every level without degradation (coherence off
+  // in both: it changes cost, never the force).
+  std::vector<run::SweepSetting> settings{
+      run::default_sweep(prepared.description.contact, run::tree_levels(prepared)).front(),
+      {"as given", prepared.description.contact}};
+  settings[1].options.coherence.enabled = false;
+  const std::vector<run::SweepResult> sweep = run::sweep_contact(runtime, states, settings);
+  f.force_error = sweep[1].force_error;
+  f.max_force_error = sweep[1].max_force_error;
+
+  // The steady press: every hand's device held from the cycle of the largest contact force.
+  std::size_t strongest = 0;
+  for (std::size_t i = 0; i < rows.front().size(); ++i) {
+    if (rows.front()[i].force.norm() > rows.front()[strongest].force.norm()) strongest = i;
+  }
+  f.hold_time = rows.front()[strongest].time;
+  std::vector<std::unique_ptr<haptic::Device>> held;
+  std::vector<haptic::Device*> devices;
+  for (const scene::HapticDescription& hand : prepared.description.haptic) {
+    held.push_back(std::make_unique<HeldStill>(scene::make_device(hand.device), f.hold_time));
+    devices.push_back(held.back().get());
+  }
+  scene::SceneRuntime still(prepared, devices);
+  run::RunOptions press;
+  press.duration = f.hold_time + 0.5;
+  run::run_scene(still, press);
+  const haptic::CycleMetricsSummary s = still.world().metrics(0);
+  f.still_step_p99 = s.still_translation.p99;
+  f.still_step_max = s.still_translation.max;
+  f.still_turn_p99 = s.still_rotation.p99;
+  f.still_turn_max = s.still_rotation.max;
+  f.still_cycles = s.still_translation.count;
+  return f;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Issue 19's smoothness figures on the bundled scenes at full settings"};
+  std::vector<std::string> scenes{"dragon_on_dino",      "dragon_on_deformable_dino",
+                                  "million_point_bunny", "bunny_on_dino",
+                                  "alpha_puzzle",        "peg_in_hole",
+                                  "two_hand_peg_in_hole"};
+  std::string cache = KHZ_SCENE_CACHE_DIR;
+  bool map = false;
+  app.add_option("--scenes", scenes, "Bundled scenes (examples/scenes/<name>.json)");
+  app.add_option("--cache", cache, "Product cache directory");
+  app.add_flag("--map", map, "Also print each scene's stability map");
+  CLI11_PARSE(app, argc, argv);
+
+  std::printf("%-26s %8s %8s %8s %10s %7s %8s %8s %10s %10s %10s %10s\n", "scene", "jump p99",
+              "rendered", "deepest", "observer", "cut", "F error", "F max", "still p99",
+              "still max", "turn p99", "turn max");
+  std::printf("%-26s %8s %8s %8s %10s %7s %8s %8s %10s %10s %10s %10s\n", "", "% peak", "% peak",
+              "voxels", "lowest J", "cycles", "RMS %", "%", "µm", "µm", "rad", "rad");
+  for (const std::string& name : scenes) {
+    scene::ProductCache products(cache);
+    scene::PreparedScene prepared = scene::prepare_scene(
+        scene::read_scene(std::string(KHZ_SCENE_EXAMPLES_DIR) + "/" + name + ".json"), products);
+    const SceneFigures f = measure(prepared);
+    std::printf(
+        "%-26s %7.1f%% %7.1f%% %8.2f %10.3g %7lld %7.2f%% %7.2f%% %10.3g %10.3g %10.3g %10.3g%s\n",
+        name.c_str(), f.contact_jump, f.rendered_jump, f.deepest_voxels, f.lowest_energy,
+        static_cast<long long>(f.cut_cycles), 100.0 * f.force_error, 100.0 * f.max_force_error,
+        1e6 * f.still_step_p99, 1e6 * f.still_step_max, f.still_turn_p99, f.still_turn_max,
+        f.still_cycles > 0 ? "" : "  (never still)");
+    if (map) {
+      const std::vector<run::StabilityPoint> points =
+          run::stability_map(prepared, run::default_stability_settings(prepared.description));
+      for (const run::StabilityPoint& p : points) {
+        if (!p.refused.empty()) {
+          std::printf("    %-34s refused: %s\n", p.setting.name().c_str(), p.refused.c_str());
+          continue;
+        }
+        std::printf(
+            "    %-34s %-10s contact jump p99 %5.1f %%, rendered %5.1f %%, deepest %.2f "
+            "voxels, observer lowest %.3g J\n",
+            p.setting.name().c_str(),
+            p.smooth()   ? "smooth"
+            : p.stable() ? "stable"
+                         : "UNSTABLE",
+            p.contact_jump_p99, p.rendered_jump_p99, p.deepest_voxels, p.lowest_energy);
+      }
+    }
+  }
+  return 0;
+}
