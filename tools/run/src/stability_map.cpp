@@ -11,8 +11,10 @@
 namespace khz::run {
 namespace {
 
-/// The scene's own value of `parameter`.
-double value_in(const scene::SceneDescription& scene, StabilityParameter parameter) noexcept {
+/// Where `parameter` lives in a SceneDescription (const or not): the key's field, the rate's
+/// derived values aside.
+template <typename Scene>
+auto& field_of(Scene& scene, StabilityParameter parameter) noexcept {
   switch (parameter) {
     case StabilityParameter::contact_stiffness:
       return scene.contact.stiffness;
@@ -23,41 +25,25 @@ double value_in(const scene::SceneDescription& scene, StabilityParameter paramet
     case StabilityParameter::static_damping:
       return scene.coupling.static_damping;
     case StabilityParameter::rate:
-      return scene.loop.rate_hz;
+      break;
   }
-  return 0.0;
+  return scene.loop.rate_hz;
 }
 
 /// Sets one parameter in `scene` as the scene reader would have from the key.
 void apply(const StabilitySetting& setting, scene::SceneDescription& scene) {
   if (setting.as_given) return;
-  const double v = setting.value;
-  switch (setting.parameter) {
-    case StabilityParameter::contact_stiffness:
-      scene.contact.stiffness = v;
-      break;
-    case StabilityParameter::coupling_stiffness:
-      scene.coupling.stiffness = v;
-      break;
-    case StabilityParameter::saturation_force:
-      scene.coupling.saturation_force = v;
-      break;
-    case StabilityParameter::static_damping:
-      scene.coupling.static_damping = v;
-      break;
-    case StabilityParameter::rate:
-      // What read_scene() derives from loop.rate_hz: the coupling's period and every device's
-      // rate (a simulated operator checks it can integrate at it).
-      scene.loop.rate_hz = v;
-      scene.coupling.period = 1.0 / v;
-      for (scene::HapticDescription& hand : scene.haptic) {
-        hand.device.capabilities.nominal_rate = v;
-        hand.device.simulated_operator.capabilities.nominal_rate = v;
-        if (hand.device.type == scene::DeviceType::simulated_operator) {
-          hand.device.simulated_operator.validate();
-        }
-      }
-      break;
+  field_of(scene, setting.parameter) = setting.value;
+  if (setting.parameter != StabilityParameter::rate) return;
+  // What read_scene() derives from loop.rate_hz: the coupling's period and every device's rate
+  // (a simulated operator checks it can integrate at it).
+  scene.coupling.period = 1.0 / setting.value;
+  for (scene::HapticDescription& hand : scene.haptic) {
+    hand.device.capabilities.nominal_rate = setting.value;
+    hand.device.simulated_operator.capabilities.nominal_rate = setting.value;
+    if (hand.device.type == scene::DeviceType::simulated_operator) {
+      hand.device.simulated_operator.validate();
+    }
   }
 }
 
@@ -124,7 +110,7 @@ std::vector<StabilitySetting> default_stability_settings(const scene::SceneDescr
   for (const StabilityParameter parameter :
        {StabilityParameter::contact_stiffness, StabilityParameter::coupling_stiffness,
         StabilityParameter::saturation_force}) {
-    scaled(parameter, value_in(scene, parameter));
+    scaled(parameter, field_of(scene, parameter));
   }
   each(StabilityParameter::static_damping, scene.coupling.static_damping, {0.2, 0.9});
   each(StabilityParameter::rate, scene.loop.rate_hz, {500.0, 1000.0, 2000.0, 4000.0});
@@ -150,7 +136,7 @@ std::vector<StabilityPoint> stability_map(scene::PreparedScene& prepared,
   for (const StabilitySetting& setting : settings) {
     StabilityPoint point;
     point.setting = setting;
-    if (!setting.as_given) point.factor = setting.value / value_in(given, setting.parameter);
+    if (!setting.as_given) point.factor = setting.value / field_of(given, setting.parameter);
     prepared.description = given;
     std::unique_ptr<scene::SceneRuntime> runtime;
     try {
