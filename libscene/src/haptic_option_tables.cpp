@@ -78,6 +78,7 @@ const OptionTable<haptic::SafetyOptions>& option_table() {
       number("deadline_tolerance", &O::deadline_tolerance, at_least(0.0)),
       integer("ramp_cycles", &O::ramp_cycles, at_least(0)),
       number("onset_force", &O::onset_force, at_least(0.0)),
+      number("onset_torque", &O::onset_torque, at_least(0.0)),
       flag("passivity_control", &O::passivity_control),
       number("passivity_max_damping", &O::passivity_max_damping, above(0.0)),
       number("passivity_max_rotational_damping", &O::passivity_max_rotational_damping, above(0.0)),

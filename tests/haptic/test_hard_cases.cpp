@@ -721,5 +721,37 @@ TEST(HapticHardCases, StartingInsideAnObjectRendersNothingUntilTheHandIsOut) {
   EXPECT_EQ(run.safe().last_write_events() & safety_waiting_for_small_force, 0u);
 }
 
+// Start-up turned (issue 19 item 6, 6-DOF): the workspace mapping turns the device's frame by a
+// quarter turn, so the manipulandum starts a quarter turn away from the held ball, which the
+// coupling would answer with its whole torque at once. The wait also covers the torque
+// (onset_torque, 0.05 N·m): nothing is rendered while the coupling turns the ball into line,
+// then no more than the threshold.
+TEST(HapticHardCases, StartingTurnedAwayFromTheHeldObjectGivesNoTorqueKick) {
+  const BallOnFloor b;
+  const double radius = BallOnFloor::radius;
+  SafetyOptions safety;
+  safety.ramp_cycles = 20;
+  Harness run(keyframe_target({{0.0, at({0.0, 0.0, radius + 0.05})}}), b.scene,
+              coupling_options(radius), b.penetration(), safety);
+  // Turned about the device's starting point, which stays where it is.
+  WorkspaceMapping turned_frame;
+  turned_frame.offset.orientation = turned(std::numbers::pi / 2, Eigen::Vector3d::UnitX());
+  const Eigen::Vector3d start(0.0, 0.0, radius + 0.05);
+  turned_frame.offset.position = start - turned_frame.offset.orientation * start;
+  run.safe().set_mapping(turned_frame);
+  run.run(1000);
+  const std::vector<Sample>& trace = run.trace();
+  ASSERT_EQ(first_non_finite(trace), trace.size());
+  EXPECT_EQ(trace.front().record.rendered.torque, Eigen::Vector3d::Zero());
+  const double strongest = largest(trace, 0, trace.size(),
+                                   [](const Sample& s) { return s.record.rendered.torque.norm(); });
+  EXPECT_LE(strongest, safety.onset_torque * (1.0 + round_off));
+  // The ball has turned into line with the hand, and output runs.
+  const Eigen::Quaterniond& simulation = trace.back().record.simulation.orientation;
+  EXPECT_LT(simulation.angularDistance(trace.back().record.manipulandum.orientation), 1e-3);
+  EXPECT_EQ(run.safe().last_write_events() & safety_waiting_for_small_force, 0u);
+  std::printf("start turned: strongest rendered torque %.4f N m\n", strongest);
+}
+
 }  // namespace
 }  // namespace khz::haptic::hard_cases

@@ -188,28 +188,44 @@ TEST(SafeDevice, WaitsForASmallForceAfterOpeningAndNotAfterADeadlineMiss) {
   EXPECT_EQ(device.last_written().force, push.force);
 }
 
-TEST(SafeDevice, TheWaitForASmallForceAlsoWaitsForThePendingForce) {
+TEST(SafeDevice, TheWaitForASmallForceAlsoWaitsForThePendingWrench) {
   NullDevice device;
   WorkspaceMapping doubled;
   doubled.force_scale = 2.0;
-  SafeDevice safe(device, {.onset_force = 1.0}, doubled);
+  doubled.torque_scale = 2.0;
+  SafeDevice safe(device, {.onset_force = 1.0, .onset_torque = 0.1}, doubled);
   safe.open();
   DeviceState state;
-  const auto cycle = [&](const Wrench& w, double pending) {
+  const auto cycle = [&](const Wrench& w, const Wrench& pending) {
     safe.read(state);
     safe.write(w, pending);
-    return device.last_written().force;
+    return device.last_written();
   };
-  // Nothing asked for yet, but 0.6 virtual N pending is 1.2 device N: still waiting.
-  EXPECT_EQ(cycle(Wrench{}, 0.6), Eigen::Vector3d::Zero());
+  const Wrench push = wrench({0.1, 0, 0});
+  // Nothing asked for yet, but 0.6 virtual N pending is 1.2 device N: still waiting; so for a
+  // NaN, and for 0.06 virtual N·m of torque pending (0.12 device N·m).
+  EXPECT_EQ(cycle(Wrench{}, wrench({0.6, 0, 0})).force, Eigen::Vector3d::Zero());
   EXPECT_EQ(safe.last_write_events(), safety_waiting_for_small_force);
-  EXPECT_EQ(cycle(wrench({0.1, 0, 0}), nan), Eigen::Vector3d::Zero());
+  EXPECT_EQ(cycle(push, wrench({nan, 0, 0})).force, Eigen::Vector3d::Zero());
+  EXPECT_EQ(cycle(push, wrench({0.5, 0, 0}, {0, 0.06, 0})).force, Eigen::Vector3d::Zero());
   EXPECT_EQ(safe.last_write_events(), safety_waiting_for_small_force);
-  // 0.5 virtual N pending is the 1 N threshold: output resumes, and from then on the pending
-  // force does not matter.
-  EXPECT_EQ(cycle(wrench({0.1, 0, 0}), 0.5), Eigen::Vector3d(0.2, 0, 0));
-  EXPECT_EQ(cycle(wrench({0.1, 0, 0}), 100.0), Eigen::Vector3d(0.2, 0, 0));
+  // A torque asked for above the threshold waits too.
+  EXPECT_EQ(cycle(wrench({0.1, 0, 0}, {0, 0, 0.06}), Wrench{}).torque, Eigen::Vector3d::Zero());
+  // 0.5 N and 0.05 N·m pending are the thresholds: output resumes, and from then on the pending
+  // wrench does not matter.
+  EXPECT_EQ(cycle(push, wrench({0.5, 0, 0}, {0, 0.05, 0})).force, Eigen::Vector3d(0.2, 0, 0));
+  EXPECT_EQ(cycle(push, wrench({100, 0, 0}, {0, 100, 0})).force, Eigen::Vector3d(0.2, 0, 0));
   EXPECT_EQ(safe.last_write_events(), 0u);
+
+  // A 3-DOF output device renders no torque, so none is waited for.
+  DeviceCapabilities forces_only = NullDevice::default_capabilities();
+  forces_only.output_dof = 3;
+  NullDevice pen(forces_only);
+  SafeDevice three(pen, {.onset_force = 1.0, .onset_torque = 0.1});
+  three.open();
+  three.read(state);
+  three.write(push, wrench({0, 0, 0}, {0, 5, 0}));
+  EXPECT_EQ(pen.last_written().force, push.force);
 }
 
 TEST(SafeDevice, NonFiniteOutputNeverReachesTheDevice) {

@@ -42,8 +42,11 @@ void SafetyOptions::validate() const {
     throw Error("safety options: deadline_tolerance must be finite and >= 0 (s)");
   }
   if (ramp_cycles < 0) throw Error("safety options: ramp_cycles must be >= 0");
-  if (std::isnan(onset_force) || onset_force < 0.0) {
-    throw Error("safety options: onset_force must be >= 0 (N; infinity for no wait)");
+  if (std::isnan(onset_force) || onset_force < 0.0 || std::isnan(onset_torque) ||
+      onset_torque < 0.0) {
+    throw Error(
+        "safety options: onset_force and onset_torque must be >= 0 (N, N m; infinity for no "
+        "wait)");
   }
   if (!positive_finite(passivity_max_damping) ||
       !positive_finite(passivity_max_rotational_damping)) {
@@ -181,7 +184,7 @@ bool SafeDevice::read(DeviceState& state) noexcept {
   return true;
 }
 
-bool SafeDevice::write(const Wrench& wrench, double pending_force) noexcept {
+bool SafeDevice::write(const Wrench& wrench, const Wrench& pending) noexcept {
   std::uint32_t events = 0;
   if (!m_input_ok) events |= safety_zeroed_read_failure;
   if (m_pending_miss) {
@@ -204,10 +207,18 @@ bool SafeDevice::write(const Wrench& wrench, double pending_force) noexcept {
   if ((events & zeroing_events) != 0) return send(Wrench{}, events);
 
   if (m_waiting_for_small_force) {
-    const double onset = m_options.onset_force;
-    const bool small = std::isinf(onset) || (detail::magnitude(output.force) <= onset &&
-                                             m_mapping.force_scale * pending_force <= onset);
-    if (!small) {
+    // Each is small when within its threshold (infinity: always); NaN never is.
+    const auto small = [](double asked, double coming, double onset) {
+      return std::isinf(onset) || (asked <= onset && coming <= onset);
+    };
+    const bool force_small =
+        small(detail::magnitude(output.force),
+              m_mapping.force_scale * detail::magnitude(pending.force), m_options.onset_force);
+    const bool torque_small =
+        m_device.capabilities().output_dof < 6 ||
+        small(detail::magnitude(output.torque),
+              m_mapping.torque_scale * detail::magnitude(pending.torque), m_options.onset_torque);
+    if (!force_small || !torque_small) {
       return send(Wrench{}, safety_waiting_for_small_force);
     }
     m_waiting_for_small_force = false;

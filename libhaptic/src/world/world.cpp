@@ -314,9 +314,12 @@ void World::step(double now) noexcept {
     CycleRecord& r = d.records[h];
     r.integrators_ok = integrators_ok;
     r.simulation = hand.coupling.simulation_pose();
-    // The contact force on the held body is what the coupling renders once it has stretched:
+    // The contact wrench on the held body is what the coupling renders once it has stretched:
     // the wait for a small force (after the start or a device fault) waits for it too.
-    hand.hand.device->write(hand.rendered, hand.wrench.force.norm());
+    Wrench pending;
+    pending.force = hand.wrench.force;
+    pending.torque = hand.wrench.torque;
+    hand.hand.device->write(hand.rendered, pending);
     r.rendered = hand.hand.device->last_output();
     r.observed_energy = hand.metrics.record(r, hand.hand.device->mapping());
   }

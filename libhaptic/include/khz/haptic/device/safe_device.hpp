@@ -53,6 +53,10 @@ struct KHZ_HAPTIC_API SafetyOptions {
   /// a kick. Deadline misses and indexing keep the pose continuous and only ramp. Infinity
   /// disables the wait.
   double onset_force = 1.0;
+  /// The same wait for the torque (device N·m, ≥ 0; 6-DOF output only): a manipulandum whose
+  /// orientation starts far from the held object's would otherwise get the coupling's whole
+  /// torque at once. Infinity leaves the torque out of the wait.
+  double onset_torque = 0.05;
   /// Time-domain passivity control (Hannaford & Ryu 2002), off by default. An observer sums the
   /// work each held output has done on the hand (device units, translation and rotation apart);
   /// when the simulation has given back more than the hand put in, the next outputs get a damper
@@ -103,7 +107,8 @@ enum SafetyEvent : std::uint32_t {
   safety_after_deadline_miss = 1u << 4,
   safety_zeroed_indexing = 1u << 5,
   safety_ramping = 1u << 6,  ///< On the ramp after a zeroed write or a deadline miss.
-  /// Zero: waiting, after the start or a failed read, for the force to fall to onset_force.
+  /// Zero: waiting, after the start or a failed read, for the force and torque to fall to
+  /// onset_force and onset_torque.
   safety_waiting_for_small_force = 1u << 7,
   /// The passivity controller added damping (SafetyOptions::passivity_control).
   safety_passivity_damping = 1u << 8,
@@ -124,7 +129,8 @@ enum SafetyEvent : std::uint32_t {
 /// tolerance) has left its output on the device for too long; the *next* write does not drop to
 /// zero (a jolt, and the hand would sink into what it pressed) but moves from that held output to
 /// the fresh wrench over SafetyOptions::ramp_cycles writes. Output resumes by itself when reads
-/// succeed again, once the force asked for is at most SafetyOptions::onset_force, and through the
+/// succeed again, once the force and torque asked for are at most SafetyOptions::onset_force and
+/// onset_torque, and through the
 /// ramp if SafetyOptions::ramp_cycles > 1. Before the first good read, every write sends zero.
 ///
 /// Threading: the same as Device (read/write/begin_cycle/end_cycle from the haptic thread only,
@@ -149,15 +155,16 @@ class KHZ_HAPTIC_API SafeDevice {
   bool read(DeviceState& state) noexcept;
   /// Maps a virtual-world wrench to the device, applies the checks above and sends it. Returns
   /// the device's write() result.
-  bool write(const Wrench& wrench) noexcept { return write(wrench, 0.0); }
+  bool write(const Wrench& wrench) noexcept { return write(wrench, Wrench{}); }
   /// write(wrench) for an application whose wrench lags what it will render: while waiting for a
-  /// small force, output also stays zero until `pending_force` (virtual-world N, scaled by the
-  /// mapping's force_scale like the wrench) is at most SafetyOptions::onset_force. A virtual
-  /// coupling that starts with its simulation object at the manipulandum asks for no force in
-  /// its first cycle even when the held body starts deep inside another: the contact force on
-  /// the body, what the coupling will render once it has stretched, is the pending force then
-  /// (World passes it). NaN counts as large. Outside the wait it has no effect.
-  bool write(const Wrench& wrench, double pending_force) noexcept;
+  /// small force, output also stays zero until `pending`'s force and torque (virtual world,
+  /// scaled by the mapping like the wrench) are at most SafetyOptions::onset_force and
+  /// onset_torque. A virtual coupling whose simulation object starts where the manipulandum is
+  /// (a hand holding its body as it lies) asks for nothing in its first cycle even when the
+  /// held body starts deep inside another: the contact wrench on the body, what the coupling
+  /// will render once it has stretched, is the pending wrench then (World passes it). NaN counts
+  /// as large. Outside the wait it has no effect.
+  bool write(const Wrench& wrench, const Wrench& pending) noexcept;
 
   /// Starts a cycle with its deadline (s, on the loop's clock; the same clock as end_cycle()).
   void begin_cycle(double deadline) noexcept;
