@@ -8,6 +8,7 @@
 // first run prepares the scenes into --cache (minutes), later runs read them.
 
 #include <khz/run/contact_sweep.hpp>
+#include <khz/run/held_still_device.hpp>
 #include <khz/run/run_scene.hpp>
 #include <khz/run/run_summary.hpp>
 #include <khz/run/stability_map.hpp>
@@ -27,43 +28,6 @@
 namespace {
 
 using namespace khz;
-
-/// A scene's device that stops moving at `hold_time`: from then on every reading reports the
-/// pose it had there, at rest (the device's clock and buttons go on).
-class HeldStill final : public haptic::Device {
- public:
-  HeldStill(std::unique_ptr<haptic::Device> device, double hold_time)
-      : m_device(std::move(device)), m_hold_time(hold_time) {}
-  void open() override {
-    m_device->open();
-    m_held = false;
-  }
-  void close() noexcept override { m_device->close(); }
-  bool is_open() const noexcept override { return m_device->is_open(); }
-  const haptic::DeviceCapabilities& capabilities() const noexcept override {
-    return m_device->capabilities();
-  }
-  bool read(haptic::DeviceState& state) noexcept override {
-    if (!m_device->read(state)) return false;
-    if (state.time >= m_hold_time && !m_held) {
-      m_pose = state.pose;
-      m_held = true;
-    }
-    if (m_held) {
-      state.pose = m_pose;
-      state.linear_velocity.setZero();
-      state.angular_velocity.setZero();
-    }
-    return true;
-  }
-  bool write(const haptic::Wrench& wrench) noexcept override { return m_device->write(wrench); }
-
- private:
-  std::unique_ptr<haptic::Device> m_device;
-  double m_hold_time;
-  bool m_held = false;
-  haptic::Pose m_pose;
-};
 
 struct SceneFigures {
   double contact_jump = 0, rendered_jump = 0, deepest_voxels = 0, lowest_energy = 0;
@@ -115,7 +79,8 @@ SceneFigures measure(scene::PreparedScene& prepared) {
   std::vector<std::unique_ptr<haptic::Device>> held;
   std::vector<haptic::Device*> devices;
   for (const scene::HapticDescription& hand : prepared.description.haptic) {
-    held.push_back(std::make_unique<HeldStill>(scene::make_device(hand.device), f.hold_time));
+    held.push_back(
+        std::make_unique<run::HeldStillDevice>(scene::make_device(hand.device), f.hold_time));
     devices.push_back(held.back().get());
   }
   scene::SceneRuntime still(prepared, devices);

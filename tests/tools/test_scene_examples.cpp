@@ -5,9 +5,11 @@
 // error sweep ordered as it should be, and a frame in contact showing its contact points.
 #include <khz/run/contact_sweep.hpp>
 #include <khz/run/frame_renderer.hpp>
+#include <khz/run/held_still_device.hpp>
 #include <khz/run/run_scene.hpp>
 #include <khz/run/run_summary.hpp>
 #include <khz/scene/content_key.hpp>
+#include <khz/scene/make_device.hpp>
 #include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/read_scene.hpp>
 #include <khz/test/fixtures.hpp>
@@ -198,6 +200,95 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
   EXPECT_GT(sweep[1].force_error, 0.0);  // level 0 is coarse
   EXPECT_LT(sweep[2].force_error, sweep[1].force_error) << "a finer level is closer";
   EXPECT_GT(sweep[0].mean_nodes, sweep[1].mean_nodes);
+}
+
+// Issue 19's targets at small settings: the contact and rendered force's cycle-to-cycle jumps at
+// most 5 % of their peaks at the 99th percentile, no point deeper than a voxel, and a steady
+// press — the scene's devices held still from the cycle of the largest contact force
+// (run::HeldStillDevice) — in which, once the hands have been still for 0.3 s, the simulation
+// moves by at most 1 µm and turns by at most 1e-4 rad per cycle.
+TEST_P(SmallExample, IsSmoothKeepsOutAndSettlesInASteadyPress) {
+  const std::filesystem::path file =
+      std::filesystem::path(KHZ_SCENE_EXAMPLES_DIR) / (GetParam() + ".json");
+  std::ifstream stream(file);
+  SceneReadOptions options;
+  options.base_directory = KHZ_SCENE_EXAMPLES_DIR;
+  const SceneDescription description =
+      parse_scene(small(nlohmann::json::parse(stream)).dump(), file.string(), options);
+  ProductCache cache(test::scratch_directory("cache"));
+  const PreparedScene prepared = prepare_scene(description, cache);
+
+  SceneRuntime runtime(prepared);
+  const run::HandRows rows = run::run_scene(runtime);
+  for (int h = 0; h < runtime.hand_count(); ++h) {
+    SCOPED_TRACE("hand " + std::to_string(h));
+    const haptic::CycleMetricsSummary m = runtime.world().metrics(h);
+    EXPECT_LE(m.contact_force_jump.p99, 0.05 * m.peak_contact_force);
+    EXPECT_LE(m.rendered_force_jump.p99, 0.05 * m.peak_rendered_force);
+    EXPECT_LE(m.deepest_penetration_voxels, 1.0);
+    EXPECT_GT(m.peak_contact_force, 0.0);
+  }
+
+  const std::vector<run::CycleRow>& first = rows.front();
+  const auto strongest = std::max_element(first.begin(), first.end(),
+                                          [](const run::CycleRow& a, const run::CycleRow& b) {
+                                            return a.force.norm() < b.force.norm();
+                                          });
+  ASSERT_GT(strongest->force.norm(), 0.0);
+  std::vector<std::unique_ptr<haptic::Device>> held;
+  std::vector<haptic::Device*> devices;
+  for (const HapticDescription& hand : description.haptic) {
+    held.push_back(
+        std::make_unique<run::HeldStillDevice>(make_device(hand.device), strongest->time));
+    devices.push_back(held.back().get());
+  }
+  SceneRuntime still(prepared, devices);
+  run::RunOptions press;
+  press.duration = strongest->time + 1.2;
+  const run::HandRows pressed = run::run_scene(still, press);
+  // The largest step, turn and change of step per cycle over [from, from + 0.2 s] after the hold.
+  struct Motion {
+    double step = 0.0, turn = 0.0, jerk = 0.0;
+    int cycles = 0;
+  };
+  const auto motion = [&](const std::vector<run::CycleRow>& hand_rows, double from) {
+    Motion m;
+    for (std::size_t i = 2; i < hand_rows.size(); ++i) {
+      const double t = hand_rows[i - 2].time - strongest->time;
+      if (t < from || t > from + 0.2) continue;
+      const Eigen::Vector3d step = hand_rows[i].simulation - hand_rows[i - 1].simulation;
+      m.step = std::max(m.step, step.norm());
+      m.jerk = std::max(
+          m.jerk, (step - (hand_rows[i - 1].simulation - hand_rows[i - 2].simulation)).norm());
+      m.turn =
+          std::max(m.turn, hand_rows[i].orientation.angularDistance(hand_rows[i - 1].orientation));
+      ++m.cycles;
+    }
+    return m;
+  };
+  // A deformed distance field rings after the press at its own frequency (the small dino's
+  // lowest mode: about 14 Hz at 5 % of critical damping), and the held object rides it: elastic
+  // motion, not jitter. There the press is judged once the ringing has decayed (after 1 s), and
+  // the motion at 0.3 s must be smooth: its step changes by under a fifth of itself per cycle
+  // (a 14 Hz swing changes it by ω T ≈ 9 %; chatter reverses it).
+  const bool rings =
+      std::any_of(prepared.objects.begin(), prepared.objects.end(),
+                  [](const PreparedObject& o) { return o.deformed_field != nullptr; });
+  for (std::size_t h = 0; h < pressed.size(); ++h) {
+    SCOPED_TRACE("steady press, hand " + std::to_string(h));
+    const Motion early = motion(pressed[h], 0.3), late = motion(pressed[h], 1.0);
+    const Motion& judged = rings ? late : early;
+    EXPECT_GE(judged.cycles, 150);
+    EXPECT_LE(judged.step, 1e-6);
+    EXPECT_LE(judged.turn, 1e-4);
+    if (rings) {
+      EXPECT_LE(early.jerk, 0.2 * early.step);
+    }
+    std::printf(
+        "%s, hand %zu, still from %.3f s: after 0.3 s step %.3g m, turn %.3g rad; after 1 s "
+        "step %.3g m, turn %.3g rad\n",
+        GetParam().c_str(), h, strongest->time, early.step, early.turn, late.step, late.turn);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, SmallExample,
