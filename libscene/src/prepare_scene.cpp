@@ -275,6 +275,9 @@ PreparedScene prepare_scene(const SceneDescription& scene, ProductCache& cache,
     }
   }
   prepared.warnings = detail::scale_warnings(prepared);
+  for (PrepareWarning& warning : detail::start_warnings(scene)) {
+    prepared.warnings.push_back(std::move(warning));
+  }
   return prepared;
 }
 

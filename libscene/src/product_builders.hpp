@@ -32,6 +32,14 @@ inline constexpr double max_plausible_ratio = 100.0;
 /// "scale" and "size" keys.
 std::vector<PrepareWarning> scale_warnings(const PreparedScene& prepared);
 
+/// A hand's device (not a hardware one) whose first reading, through the hand's mapping, is
+/// turned more than this from the held object's orientation: the coupling would turn the object
+/// into line with the hand at the start.
+inline constexpr double max_start_turn_degrees = 10.0;
+
+/// One warning per such hand, naming the held object and the "mapping" key.
+std::vector<PrepareWarning> start_warnings(const SceneDescription& scene);
+
 /// Nothing if `surface` bounds a volume (closed, edge-manifold, consistently oriented).
 /// @throws reduced::MeshError "the mesh <problem>, so its inside is undefined and <needed_by>;
 ///         <remedy>", naming the first problem and pointing to khz info and khz repair.

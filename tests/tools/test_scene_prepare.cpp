@@ -605,6 +605,31 @@ TEST(ScenePrepare, WarnsAboutSizesThatSuggestOtherUnitsThanMetres) {
       << apart.warnings[0].message;
 }
 
+TEST(ScenePrepare, WarnsAboutADeviceStartingTurnedAwayFromTheHeldObject) {
+  // The tool lies turned a quarter turn about z; the (null) device reads the identity: the
+  // coupling would turn the tool a quarter turn at the start.
+  Json turned = rigid_scene();
+  turned["objects"][1]["pose"] = Json::parse(R"({"rotation": {"axis": [0, 0, 1], "degrees": 90}})");
+  const PreparedScene away = prepare(turned, fresh_cache());
+  ASSERT_EQ(away.warnings.size(), 1u);
+  EXPECT_EQ(away.warnings[0].object, "tool");
+  EXPECT_NE(away.warnings[0].message.find("haptic entry 0's device starts turned 90 degrees"),
+            std::string::npos)
+      << away.warnings[0].message;
+  EXPECT_NE(away.warnings[0].message.find("\"mapping\""), std::string::npos);
+
+  // The device's frame turned with the tool, or the device itself turned: no warning; within
+  // 10 degrees neither.
+  Json mapped = turned;
+  mapped["device"] =
+      Json::parse(R"({"mapping": {"offset": {"rotation": {"axis": [0, 0, 1], "degrees": 90}}}})");
+  EXPECT_TRUE(prepare(mapped, fresh_cache()).warnings.empty());
+  Json held_turned = turned;
+  held_turned["device"] =
+      Json::parse(R"({"pose": {"rotation": {"axis": [0, 0, 1], "degrees": 85}}})");
+  EXPECT_TRUE(prepare(held_turned, fresh_cache()).warnings.empty());
+}
+
 TEST(ScenePrepare, ProgressNamesObjectAndStepAndCanCancel) {
   const std::filesystem::path directory = fresh_cache();
   std::set<std::pair<std::string, PrepareStep>> reported;

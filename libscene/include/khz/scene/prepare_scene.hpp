@@ -59,7 +59,10 @@ struct PrepareOptions {
 ///
 /// Then PreparedScene::warnings gets one entry per object whose size (the longest side of its
 /// pointshell's or field's body-frame box) is below 1 mm, above 10 m, or at least 100 times the
-/// smallest object's: most likely a mesh in millimetres (or other units) read as metres.
+/// smallest object's: most likely a mesh in millimetres (or other units) read as metres; and one
+/// per hand whose device (not a hardware one: its first reading, through the hand's mapping)
+/// starts turned more than 10° from the object it holds, which the coupling would turn into line
+/// at the start.
 /// @throws PrepareError naming the object and step, with the original exception nested
 ///         (std::throw_with_nested), for any failure: a mesh or load file that cannot be read,
 ///         a product file that is corrupt or belongs to another mesh, an invalid mesh, an
