@@ -10,6 +10,7 @@
 // first run prepares the scenes into --cache (minutes), later runs read them.
 
 #include <khz/run/contact_sweep.hpp>
+#include <khz/run/cycle_log.hpp>
 #include <khz/run/held_still_device.hpp>
 #include <khz/run/run_scene.hpp>
 #include <khz/run/run_summary.hpp>
@@ -24,6 +25,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -44,7 +46,8 @@ struct SceneFigures {
   std::int64_t still_cycles = 0;
 };
 
-SceneFigures measure(scene::PreparedScene& prepared) {
+/// `log`: where to write the steady press's cycle log (none if empty).
+SceneFigures measure(scene::PreparedScene& prepared, const std::filesystem::path& log) {
   SceneFigures f;
   const double rate = prepared.description.loop.rate_hz;
   // The run as bundled, every state kept for the error against the full traversal.
@@ -107,7 +110,8 @@ SceneFigures measure(scene::PreparedScene& prepared) {
   scene::SceneRuntime still(prepared, devices);
   run::RunOptions press;
   press.duration = f.hold_time + 0.5;
-  run::run_scene(still, press);
+  const run::HandRows pressed = run::run_scene(still, press);
+  if (!log.empty()) run::write_cycle_csv(pressed.front(), log);
   const haptic::CycleMetricsSummary s = still.world().metrics(0);
   f.still_step_p99 = s.still_translation.p99;
   f.still_step_max = s.still_translation.max;
@@ -127,9 +131,12 @@ int main(int argc, char** argv) {
                                   "two_hand_peg_in_hole"};
   std::string cache = KHZ_SCENE_CACHE_DIR;
   bool map = false;
+  std::string logs;
   app.add_option("--scenes", scenes, "Bundled scenes (examples/scenes/<name>.json)");
   app.add_option("--cache", cache, "Product cache directory");
   app.add_flag("--map", map, "Also print each scene's stability map");
+  app.add_option("--logs", logs,
+                 "Write each scene's steady press as DIR/<scene>_press.csv (cycle log)");
   CLI11_PARSE(app, argc, argv);
 
   std::printf("%-26s %8s %8s %8s %10s %7s %7s %8s %8s %10s %10s %10s %10s\n", "scene", "jump p99",
@@ -142,7 +149,9 @@ int main(int argc, char** argv) {
     scene::ProductCache products(cache);
     scene::PreparedScene prepared = scene::prepare_scene(
         scene::read_scene(std::string(KHZ_SCENE_EXAMPLES_DIR) + "/" + name + ".json"), products);
-    const SceneFigures f = measure(prepared);
+    const SceneFigures f =
+        measure(prepared, logs.empty() ? std::filesystem::path()
+                                       : std::filesystem::path(logs) / (name + "_press.csv"));
     std::printf(
         "%-26s %7.1f%% %7.1f%% %8.2f %10.3g %7lld %7s %7.2f%% %7.2f%% %10.3g %10.3g %10.3g "
         "%10.3g%s\n",
