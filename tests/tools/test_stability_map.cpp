@@ -133,6 +133,32 @@ TEST(StabilityMap, EachPointIsTheRunOfTheSceneWithThatKeyChanged) {
   EXPECT_FALSE(points[3].stable());
 }
 
+TEST(StabilityMap, ARateScalesTheLevelOfDetailBudgetWithThePeriod) {
+  // A node-count budget (deterministic, unlike a time budget) tight enough to cut the pressed
+  // cube's queries: at 2 kHz the map's run is the scene file with half the period's nodes.
+  nlohmann::json json = pressed_cube();
+  json["contact"]["degradation"] = {{"mode", "node_count"}, {"warm_threshold", 80}};
+  scene::PreparedScene prepared = prepare(json);
+  const std::vector<StabilityPoint> points =
+      stability_map(prepared, {{.as_given = true}, {false, StabilityParameter::rate, 2000.0}}, 0.0);
+  ASSERT_EQ(points.size(), 2u);
+  EXPECT_EQ(prepared.description.contact.degradation.warm_threshold, 80.0) << "restored";
+
+  nlohmann::json faster = json;
+  faster["loop"]["rate_hz"] = 2000;
+  faster["contact"]["degradation"]["warm_threshold"] = 40;
+  scene::PreparedScene reference = prepare(faster);
+  const haptic::CycleMetricsSummary m = run_metrics(reference);
+  EXPECT_EQ(points[1].peak_contact_force, m.peak_contact_force);
+  EXPECT_EQ(points[1].contact_jump_p99, percent_of(m.contact_force_jump.p99, m.peak_contact_force));
+  EXPECT_EQ(points[1].deepest_voxels, m.deepest_penetration_voxels);
+  // Not what the unscaled budget gives: the threshold matters here.
+  nlohmann::json unscaled = faster;
+  unscaled["contact"]["degradation"]["warm_threshold"] = 80;
+  scene::PreparedScene other = prepare(unscaled);
+  EXPECT_NE(run_metrics(other).peak_contact_force, m.peak_contact_force);
+}
+
 TEST(StabilityMap, StableAndSmoothFollowTheirThresholds) {
   StabilityPoint p;
   EXPECT_TRUE(p.stable() && p.smooth());

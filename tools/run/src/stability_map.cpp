@@ -31,10 +31,16 @@ auto& field_of(Scene& scene, StabilityParameter parameter) noexcept {
 }
 
 /// Sets one parameter in `scene` as the scene reader would have from the key.
+/// A new rate also scales the level-of-detail budget with the period (a time budget, or a node
+/// count standing for one), as a user changing the rate would: the same share of each cycle.
 void apply(const StabilitySetting& setting, scene::SceneDescription& scene) {
   if (setting.as_given) return;
+  const double given_rate = scene.loop.rate_hz;
   field_of(scene, setting.parameter) = setting.value;
   if (setting.parameter != StabilityParameter::rate) return;
+  const double period_ratio = given_rate / setting.value;
+  scene.contact.degradation.budget_microseconds *= period_ratio;
+  scene.contact.degradation.warm_threshold *= period_ratio;
   // What read_scene() derives from loop.rate_hz: the coupling's period and every device's rate
   // (a simulated operator checks it can integrate at it).
   scene.coupling.period = 1.0 / setting.value;

@@ -19,7 +19,9 @@ enum class StabilityParameter {
   coupling_stiffness,  ///< coupling.stiffness, k_VC (N/m).
   saturation_force,    ///< coupling.saturation_force, F_VC,max (N).
   static_damping,      ///< coupling.static_damping, α of §4.6 (in [0, 1)).
-  rate,                ///< loop.rate_hz (Hz), with the coupling's period and the devices' rate.
+  /// loop.rate_hz (Hz), with the coupling's period and the devices' rate, and the contact's
+  /// time budget (or node count) scaled with the period: the same share of each cycle.
+  rate,
 };
 
 /// The scene key a parameter is set by, e.g. "coupling.stiffness".
