@@ -15,7 +15,6 @@
 #include <khz/run/run_scene.hpp>
 #include <khz/run/run_summary.hpp>
 #include <khz/run/stability_map.hpp>
-#include <khz/scene/make_device.hpp>
 #include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/product_cache.hpp>
 #include <khz/scene/read_scene.hpp>
@@ -26,7 +25,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -95,24 +93,10 @@ SceneFigures measure(scene::PreparedScene& prepared, const std::filesystem::path
   f.max_force_error = sweep[1].max_force_error;
 
   // The steady press: every hand's device held from the cycle of the largest contact force.
-  std::size_t strongest = 0;
-  for (std::size_t i = 0; i < rows.front().size(); ++i) {
-    if (rows.front()[i].force.norm() > rows.front()[strongest].force.norm()) strongest = i;
-  }
-  f.hold_time = rows.front()[strongest].time;
-  std::vector<std::unique_ptr<haptic::Device>> held;
-  std::vector<haptic::Device*> devices;
-  for (const scene::HapticDescription& hand : prepared.description.haptic) {
-    held.push_back(
-        std::make_unique<run::HeldStillDevice>(scene::make_device(hand.device), f.hold_time));
-    devices.push_back(held.back().get());
-  }
-  scene::SceneRuntime still(prepared, devices);
-  run::RunOptions press;
-  press.duration = f.hold_time + 0.5;
-  const run::HandRows pressed = run::run_scene(still, press);
-  if (!log.empty()) run::write_cycle_csv(pressed.front(), log);
-  const haptic::CycleMetricsSummary s = still.world().metrics(0);
+  const run::SteadyPress press = run::steady_press(prepared, rows.front(), 0.5);
+  f.hold_time = press.hold_time;
+  if (!log.empty()) run::write_cycle_csv(press.rows.front(), log);
+  const haptic::CycleMetricsSummary& s = press.metrics.front();
   f.still_step_p99 = s.still_translation.p99;
   f.still_step_max = s.still_translation.max;
   f.still_turn_p99 = s.still_rotation.p99;

@@ -9,7 +9,6 @@
 #include <khz/run/run_scene.hpp>
 #include <khz/run/run_summary.hpp>
 #include <khz/scene/content_key.hpp>
-#include <khz/scene/make_device.hpp>
 #include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/read_scene.hpp>
 #include <khz/test/fixtures.hpp>
@@ -229,23 +228,8 @@ TEST_P(SmallExample, IsSmoothKeepsOutAndSettlesInASteadyPress) {
     EXPECT_GT(m.peak_contact_force, 0.0);
   }
 
-  const std::vector<run::CycleRow>& first = rows.front();
-  const auto strongest = std::max_element(first.begin(), first.end(),
-                                          [](const run::CycleRow& a, const run::CycleRow& b) {
-                                            return a.force.norm() < b.force.norm();
-                                          });
-  ASSERT_GT(strongest->force.norm(), 0.0);
-  std::vector<std::unique_ptr<haptic::Device>> held;
-  std::vector<haptic::Device*> devices;
-  for (const HapticDescription& hand : description.haptic) {
-    held.push_back(
-        std::make_unique<run::HeldStillDevice>(make_device(hand.device), strongest->time));
-    devices.push_back(held.back().get());
-  }
-  SceneRuntime still(prepared, devices);
-  run::RunOptions press;
-  press.duration = strongest->time + 1.2;
-  const run::HandRows pressed = run::run_scene(still, press);
+  const run::SteadyPress press = run::steady_press(prepared, rows.front(), 1.2);
+  const run::HandRows& pressed = press.rows;
   // The largest step, turn and change of step per cycle over [from, from + 0.2 s] after the hold.
   struct Motion {
     double step = 0.0, turn = 0.0, jerk = 0.0;
@@ -254,7 +238,7 @@ TEST_P(SmallExample, IsSmoothKeepsOutAndSettlesInASteadyPress) {
   const auto motion = [&](const std::vector<run::CycleRow>& hand_rows, double from) {
     Motion m;
     for (std::size_t i = 2; i < hand_rows.size(); ++i) {
-      const double t = hand_rows[i - 2].time - strongest->time;
+      const double t = hand_rows[i - 2].time - press.hold_time;
       if (t < from || t > from + 0.2) continue;
       const Eigen::Vector3d step = hand_rows[i].simulation - hand_rows[i - 1].simulation;
       m.step = std::max(m.step, step.norm());
@@ -287,7 +271,7 @@ TEST_P(SmallExample, IsSmoothKeepsOutAndSettlesInASteadyPress) {
     std::printf(
         "%s, hand %zu, still from %.3f s: after 0.3 s step %.3g m, turn %.3g rad; after 1 s "
         "step %.3g m, turn %.3g rad\n",
-        GetParam().c_str(), h, strongest->time, early.step, early.turn, late.step, late.turn);
+        GetParam().c_str(), h, press.hold_time, early.step, early.turn, late.step, late.turn);
   }
 }
 

@@ -1,10 +1,14 @@
 #pragma once
-// A device that stops moving: for a steady press (issue 19's settling target), any scene's device
-// replayed until a moment and then held there at rest.
+// A steady press (issue 19's settling target): any scene's device replayed until a moment and
+// then held there at rest, and the scene run again that way.
 
 #include <khz/haptic/device/device.hpp>
+#include <khz/haptic/world/cycle_metrics.hpp>
+#include <khz/run/run_scene.hpp>
+#include <khz/scene/prepared_scene.hpp>
 
 #include <memory>
+#include <vector>
 
 namespace khz::run {
 
@@ -31,5 +35,20 @@ class HeldStillDevice final : public haptic::Device {
   bool m_held = false;
   haptic::Pose m_pose;
 };
+
+/// A steady press and what it showed.
+struct SteadyPress {
+  double hold_time = 0.0;  ///< s: the cycle of hand 0's largest contact force in the run given.
+  HandRows rows;           ///< The pressed run's rows, one list per hand.
+  /// Each hand's metrics over the pressed run (haptic::World::metrics()).
+  std::vector<haptic::CycleMetricsSummary> metrics;
+};
+
+/// Runs `prepared` again with every hand's own device (scene::make_device()) held still
+/// (HeldStillDevice) from the cycle of hand 0's largest contact force in `run` (hand 0's rows of
+/// an earlier run of the scene), for `seconds` after it.
+/// @throws reduced::Error if `run` has no contact, or as scene::make_device() and run_scene().
+SteadyPress steady_press(const scene::PreparedScene& prepared, const std::vector<CycleRow>& run,
+                         double seconds);
 
 }  // namespace khz::run
