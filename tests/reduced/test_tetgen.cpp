@@ -1,9 +1,15 @@
 #include <khz/reduced/errors.hpp>
+#include <khz/reduced/io/mesh_file.hpp>
 #include <khz/reduced/io/tetgen.hpp>
+#include <khz/reduced/mesh/element_quality.hpp>
+#include <khz/test/external_program.hpp>
 #include <khz/test/fixtures.hpp>
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 namespace khz::reduced {
@@ -172,6 +178,39 @@ TEST(Tetgen, MalformedFilesThrowParseErrorsWithLocation) {
         c.expected))
         << c.node << " + " << c.ele;
   }
+}
+
+// ---- The real TetGen ---------------------------------------------------------------------
+// KHZ_TETGEN_PATH comes from find_program() in tests/CMakeLists.txt (empty when not found).
+
+TEST(TetgenProgram, MeshesABoxWeReadWithItsCountsAndVolume) {
+  const std::string tetgen = test::required_program(KHZ_TETGEN_PATH, "tetgen", "tetgen");
+  // The box [0,1]×[0,2]×[0,3] as a piecewise linear complex: 8 corners, 6 quadrangular facets,
+  // no holes, no regions.
+  const std::filesystem::path poly = test::scratch_file("box.poly");
+  std::ofstream(poly) << "8 3 0 0\n1 0 0 0\n2 1 0 0\n3 1 2 0\n4 0 2 0\n"
+                         "5 0 0 3\n6 1 0 3\n7 1 2 3\n8 0 2 3\n"
+                         "6 0\n1\n4 1 2 3 4\n1\n4 5 6 7 8\n1\n4 1 2 6 5\n"
+                         "1\n4 2 3 7 6\n1\n4 3 4 8 7\n1\n4 4 1 5 8\n0\n0\n";
+  const std::filesystem::path ele = test::scratch_file("box.1.ele");
+  test::scratch_file("box.1.node");  // clears an earlier run's output
+  // -p: mesh the PLC; -q1.4: radius-edge ratio at most 1.4; -a0.05: volume at most 0.05.
+  // TetGen writes box.1.node and box.1.ele beside the input and prints its statistics.
+  const test::ProgramRun run = test::run_program(tetgen, {"-pq1.4a0.05", poly.string()});
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto reported = [&](const std::string& label) {
+    const std::size_t at = run.output.find(label);
+    Eigen::Index value = -1;
+    if (at != std::string::npos) std::istringstream(run.output.substr(at + label.size())) >> value;
+    return value;
+  };
+
+  const VolumeMesh mesh = read_volume_mesh(ele);
+  EXPECT_EQ(mesh.num_elements(), reported("Mesh tetrahedra:")) << run.output;
+  EXPECT_EQ(mesh.num_vertices(), reported("Mesh points:")) << run.output;
+  EXPECT_GT(mesh.num_elements(), 120);            // the volume limit forces at least 6 / 0.05
+  EXPECT_NO_THROW(require_valid_elements(mesh));  // TetGen's orientation is ours
+  EXPECT_NEAR(analyze_elements(mesh).total_volume, 6.0, 1e-12);
 }
 
 }  // namespace

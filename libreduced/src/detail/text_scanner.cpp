@@ -98,8 +98,7 @@ std::int64_t TextScanner::require_integer(std::string_view what, std::int64_t mi
     fail("expected " + std::string(what) + " (an integer), found " + quoted_token(token));
   }
   if (value < min || value > max) {
-    fail(std::string(what) + " " + std::to_string(value) + " is outside [" + std::to_string(min) +
-         ", " + std::to_string(max) + "]");
+    fail(outside_range(what, std::to_string(value), min, max));
   }
   return value;
 }
@@ -131,14 +130,10 @@ bool parse_integer(std::string_view token, std::int64_t& value) noexcept {
   return result.ec == std::errc() && result.ptr == end;
 }
 
-void check_count_fits(const TextScanner& scanner, std::int64_t count, std::size_t min_bytes_each,
-                      std::string_view what) {
-  if (count < 0) scanner.fail("negative " + std::string(what) + " count " + std::to_string(count));
-  const std::size_t room = scanner.remaining_bytes() / min_bytes_each;
-  if (static_cast<std::uint64_t>(count) > room) {
-    scanner.fail("header declares " + std::to_string(count) + " " + std::string(what) +
-                 " but the rest of the file can hold at most " + std::to_string(room));
-  }
+std::string outside_range(std::string_view what, std::string_view value, std::int64_t min,
+                          std::int64_t max) {
+  return std::string(what) + " " + std::string(value) + " is outside [" + std::to_string(min) +
+         ", " + std::to_string(max) + "]";
 }
 
 }  // namespace khz::reduced::detail

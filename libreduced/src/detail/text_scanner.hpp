@@ -74,9 +74,22 @@ bool parse_double(std::string_view token, double& value) noexcept;
 /// Parses all of `token` as a decimal integer, or returns false.
 bool parse_integer(std::string_view token, std::int64_t& value) noexcept;
 
+/// "<what> <value> is outside [<min>, <max>]": the message of every integer range check.
+std::string outside_range(std::string_view what, std::string_view value, std::int64_t min,
+                          std::int64_t max);
+
 /// Rejects a header count that cannot fit: `count` items of at least `min_bytes_each` bytes in
-/// `remaining_bytes`. Stops hostile headers from driving huge allocations.
-void check_count_fits(const TextScanner& scanner, std::int64_t count, std::size_t min_bytes_each,
-                      std::string_view what);
+/// what `at` has left. Stops hostile headers from driving huge allocations. `at` is a
+/// TextScanner or a binary reader: anything with remaining_bytes() and fail().
+template <typename Reporter>
+void check_count_fits(const Reporter& at, std::int64_t count, std::size_t min_bytes_each,
+                      std::string_view what) {
+  if (count < 0) at.fail("negative " + std::string(what) + " count " + std::to_string(count));
+  const std::size_t room = at.remaining_bytes() / min_bytes_each;
+  if (static_cast<std::uint64_t>(count) > room) {
+    at.fail("header declares " + std::to_string(count) + " " + std::string(what) +
+            " but the rest of the file can hold at most " + std::to_string(room));
+  }
+}
 
 }  // namespace khz::reduced::detail

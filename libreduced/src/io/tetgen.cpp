@@ -157,7 +157,7 @@ void read_tetrahedra(TextScanner& s, const RowList& nodes, const std::string& no
       // A 10-node tetrahedron lists its 4 corners first; the edge midpoints are dropped.
       if (k < 4) rows.element_nodes.push_back(static_cast<int>(node - first));
     }
-    detail::check_distinct_nodes(s, rows.element_nodes, 4, "tetrahedron " + std::to_string(index));
+    detail::check_distinct_nodes(s, rows.element_nodes, 4, "tetrahedron", index);
     if (attributes > 0) rows.groups.push_back(read_group(s, index));
     for (std::int64_t a = 1; a < attributes; ++a) s.require_double("tetrahedron attribute");
   }

@@ -50,17 +50,19 @@ struct VolumeMeshRows {
   }
 };
 
-/// Fails at the current line unless the last `width` entries of `element_nodes` (the element
-/// just read) are distinct: such an element has no volume and validate() rejects it.
-/// `element` names it in the file's terms, e.g. "element 7".
-inline void check_distinct_nodes(const TextScanner& s, const std::vector<int>& element_nodes,
-                                 int width, const std::string& element) {
+/// Fails through `at` (a TextScanner, or anything with fail()) unless the last `width` entries
+/// of `element_nodes` (the element just read) are distinct: such an element has no volume and
+/// validate() rejects it. `noun` and `number` name it in the file's terms, e.g. "element" 7.
+template <typename Reporter>
+void check_distinct_nodes(const Reporter& at, const std::vector<int>& element_nodes, int width,
+                          std::string_view noun, std::int64_t number) {
   const int* nodes = element_nodes.data() + element_nodes.size() - width;
   for (int a = 0; a < width; ++a) {
     for (int b = a + 1; b < width; ++b) {
       if (nodes[a] == nodes[b]) {
-        s.fail(element + " lists one node twice (as corners " + std::to_string(a + 1) + " and " +
-               std::to_string(b + 1) + ")");
+        at.fail(std::string(noun) + " " + std::to_string(number) +
+                " lists one node twice (as corners " + std::to_string(a + 1) + " and " +
+                std::to_string(b + 1) + ")");
       }
     }
   }

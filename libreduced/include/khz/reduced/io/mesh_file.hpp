@@ -29,12 +29,14 @@ KHZ_REDUCED_API void write_triangle_mesh(const std::filesystem::path& file,
                                          const TriangleMesh& mesh,
                                          const TriangleMeshWriteOptions& options = {});
 
-/// Reads a volumetric mesh: .msh (Gmsh 2.2 ASCII), or TetGen given either the .node or the .ele
-/// path (the other file is found beside it). The result passes validate().
+/// Reads a volumetric mesh: .msh (Gmsh MSH 2.2 ASCII, 4.1 ASCII or binary), or TetGen given
+/// either the .node or the .ele path (the other file is found beside it). The result passes
+/// validate().
 /// @throws IoError, ParseError or Error as read_triangle_mesh().
 KHZ_REDUCED_API VolumeMesh read_volume_mesh(const std::filesystem::path& file);
 
-/// Writes a volumetric mesh: .msh, .node (also writes the .ele beside it), .vtk or .vtu.
+/// Writes a volumetric mesh: .msh (MSH 2.2 ASCII; format_gmsh() writes MSH 4.1), .node (also
+/// writes the .ele beside it), .vtk or .vtu.
 /// `fields` are used by .vtk/.vtu only.
 /// @throws MeshError, IoError or Error as write_triangle_mesh().
 KHZ_REDUCED_API void write_volume_mesh(const std::filesystem::path& file, const VolumeMesh& mesh,

@@ -1,0 +1,30 @@
+#pragma once
+// Running a program the tests compare against (Gmsh, TetGen, ...) and reading what it printed.
+// Its path comes from find_program() in tests/CMakeLists.txt as a compile definition, empty when
+// the program was missing at configure time: the test then fails, naming the package.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace khz::test {
+
+/// What one run of a program did.
+struct ProgramRun {
+  int exit_code = -1;  ///< -1 if it did not exit normally (killed by a signal)
+  std::string output;  ///< stdout and stderr together
+};
+
+/// `path` (a program found at configure time); throws, failing the test, when it is empty.
+/// Defined out of line: with an inline definition the compiler would see a missing program's
+/// test throw unconditionally and warn about the code after it.
+std::string required_program(std::string_view path, std::string_view name,
+                             std::string_view debian_package);
+
+/// Runs `program arguments...` without a shell, its output captured in the running test's
+/// scratch space. The child's environment is this one with OMP_NUM_THREADS=1, so a run takes
+/// one core and its result does not depend on the machine's. @throws std::runtime_error if it
+/// cannot be started.
+ProgramRun run_program(const std::string& program, const std::vector<std::string>& arguments);
+
+}  // namespace khz::test
