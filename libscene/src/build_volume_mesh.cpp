@@ -2,11 +2,16 @@
 
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/io/gmsh.hpp>
+#include <khz/reduced/io/mesh_file.hpp>
+#include <khz/reduced/io/mesh_fingerprint.hpp>
+#include <khz/reduced/io/reduced_model_file.hpp>
 #include <khz/reduced/meshing/tetrahedralize.hpp>
 #include <khz/reduced/meshing/voxelize.hpp>
 #include <khz/reduced/stage_progress.hpp>
 
 #include <algorithm>
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -41,6 +46,27 @@ void write_volume_mesh_file(const reduced::VolumeMesh& mesh, const std::filesyst
   out.write(text.data(), static_cast<std::streamsize>(text.size()));
   out.close();
   if (!out) throw reduced::IoError("cannot write the volume mesh " + file.string());
+}
+
+reduced::VolumeMesh read_volume_mesh_file(const std::filesystem::path& file,
+                                          const std::filesystem::path& model_file) {
+  reduced::VolumeMesh mesh = reduced::read_volume_mesh(file);
+  std::error_code error;
+  if (!std::filesystem::exists(model_file, error)) return mesh;
+  std::uint64_t stored = 0;
+  try {
+    stored = reduced::read_reduced_model_info(model_file).basis.fingerprint;
+  } catch (const reduced::ParseError&) {
+    return mesh;  // a damaged model file is the model's read to report
+  }
+  if (const std::uint64_t read = reduced::mesh_fingerprint(mesh); read != stored) {
+    throw reduced::ParseError::at_byte(
+        file.string(), 0,
+        "not the mesh the reduced model " + model_file.filename().string() +
+            " was computed on (fingerprint " + std::to_string(read) + ", the model's " +
+            std::to_string(stored) + "): the file is damaged");
+  }
+  return mesh;
 }
 
 std::vector<int> anchored_vertices(const reduced::VolumeMesh& mesh,

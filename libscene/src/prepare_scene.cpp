@@ -36,8 +36,13 @@ std::string bare(std::string_view extension) { return std::string(extension.subs
 class ObjectPreparer {
  public:
   ObjectPreparer(const ObjectDescription& object, ProductCache& cache,
-                 const PrepareOptions& options, std::vector<PrepareRecord>& records)
-      : m_object(object), m_cache(cache), m_options(options), m_records(records) {}
+                 const PrepareOptions& options, std::vector<PrepareRecord>& records,
+                 std::vector<PrepareWarning>& warnings)
+      : m_object(object),
+        m_cache(cache),
+        m_options(options),
+        m_records(records),
+        m_warnings(warnings) {}
 
   PreparedObject prepare() {
     PreparedObject prepared;
@@ -97,6 +102,11 @@ class ObjectPreparer {
         },
         [&] { return compute(note); }, write);
     const ProductCache::Record& done = m_cache.records().back();
+    if (!done.damaged.empty()) {
+      m_warnings.push_back({m_object.name, "the cached " + std::string(step_name(step)) +
+                                               " could not be used and was computed again (" +
+                                               done.damaged + ")"});
+    }
     m_records.push_back({m_object.name, step, done.computed ? Origin::computed : Origin::read,
                          done.seconds, done.file, done.computed ? note : std::string()});
     return result;
@@ -174,7 +184,12 @@ class ObjectPreparer {
     // stored under the model's key, since the same inputs determine it.
     const reduced::VolumeMesh volume = fetch<reduced::VolumeMesh>(
         PrepareStep::volume_mesh, Product::reduced_model, ".msh",
-        [](const std::filesystem::path& file) { return reduced::read_volume_mesh(file); },
+        [this](const std::filesystem::path& file) {
+          return detail::read_volume_mesh_file(
+              file, m_cache.file(std::string(step_name(PrepareStep::reduced_model)),
+                                 key(Product::reduced_model),
+                                 bare(reduced::reduced_model_file_extension)));
+        },
         [this](std::string&) {
           return detail::compute_volume_mesh(surface(), m_object.model.meshing,
                                              progress(PrepareStep::volume_mesh));
@@ -250,6 +265,7 @@ class ObjectPreparer {
   ProductCache& m_cache;
   const PrepareOptions& m_options;
   std::vector<PrepareRecord>& m_records;
+  std::vector<PrepareWarning>& m_warnings;
   PrepareStep m_step = PrepareStep::volume_mesh;  // the step under way: a failure names it
   std::map<Product, std::string> m_keys;
   std::optional<reduced::TriangleMesh> m_surface;
@@ -265,7 +281,7 @@ PreparedScene prepare_scene(const SceneDescription& scene, ProductCache& cache,
   prepared.description = scene;
   prepared.objects.reserve(scene.objects.size());
   for (const ObjectDescription& object : scene.objects) {
-    ObjectPreparer preparer(object, cache, options, prepared.records);
+    ObjectPreparer preparer(object, cache, options, prepared.records, prepared.warnings);
     try {
       prepared.objects.push_back(preparer.prepare());
     } catch (const reduced::Cancelled&) {
@@ -274,10 +290,12 @@ PreparedScene prepare_scene(const SceneDescription& scene, ProductCache& cache,
       std::throw_with_nested(PrepareError(object.name, preparer.step(), error.what()));
     }
   }
-  prepared.warnings = detail::scale_warnings(prepared);
-  for (PrepareWarning& warning : detail::start_warnings(scene)) {
-    prepared.warnings.push_back(std::move(warning));
-  }
+  // After the cache's warnings, which the objects' preparation left.
+  const auto append = [&](std::vector<PrepareWarning> more) {
+    for (PrepareWarning& warning : more) prepared.warnings.push_back(std::move(warning));
+  };
+  append(detail::scale_warnings(prepared));
+  append(detail::start_warnings(scene));
   return prepared;
 }
 

@@ -77,6 +77,14 @@ reduced::VolumeMesh compute_volume_mesh(const reduced::TriangleMesh& surface,
 /// @throws reduced::IoError naming the file if it cannot be written.
 void write_volume_mesh_file(const reduced::VolumeMesh& mesh, const std::filesystem::path& file);
 
+/// Reads a volume mesh write_volume_mesh_file() wrote. Its text has no checksum, so when
+/// `model_file`, the reduced model computed on it, exists and is intact, the mesh must have the
+/// fingerprint the model stores: a changed digit reads as another mesh.
+/// @throws reduced::ParseError if the text is malformed or the fingerprints differ (damaged);
+///         reduced::IoError if it cannot be read.
+reduced::VolumeMesh read_volume_mesh_file(const std::filesystem::path& file,
+                                          const std::filesystem::path& model_file);
+
 /// The vertices of `mesh` inside any of the regions (sorted): the fixed vertices. Empty for no
 /// regions. @throws reduced::Error if regions are given but select no vertex.
 std::vector<int> anchored_vertices(const reduced::VolumeMesh& mesh,

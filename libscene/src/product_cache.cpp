@@ -47,10 +47,10 @@ void ProductCache::commit(const std::filesystem::path& temporary,
 }
 
 void ProductCache::record(const std::string& name, const std::filesystem::path& file, bool computed,
-                          std::chrono::steady_clock::time_point start) {
+                          std::chrono::steady_clock::time_point start, std::string damaged) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  m_records.push_back({name, file, computed, seconds});
+  m_records.push_back({name, file, computed, seconds, std::move(damaged)});
 }
 
 }  // namespace khz::scene

@@ -19,9 +19,12 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <fstream>
+#include <functional>
 #include <optional>
 #include <set>
 #include <string>
@@ -628,6 +631,85 @@ TEST(ScenePrepare, WarnsAboutADeviceStartingTurnedAwayFromTheHeldObject) {
   held_turned["device"] =
       Json::parse(R"({"pose": {"rotation": {"axis": [0, 0, 1], "degrees": 85}}})");
   EXPECT_TRUE(prepare(held_turned, fresh_cache()).warnings.empty());
+}
+
+/// `file` rewritten with `edit` applied to its bytes.
+template <typename Edit>
+void damage(const std::filesystem::path& file, const Edit& edit) {
+  std::string bytes = test::read_bytes(file);
+  edit(bytes);
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+/// The volume mesh text with one digit of the second node's first coordinate changed: it still
+/// reads, as another mesh.
+void change_a_coordinate(std::string& text) {
+  const std::size_t node = text.find("\n2 ", text.find("$Nodes"));
+  ASSERT_NE(node, std::string::npos);
+  const std::size_t end = text.find(' ', node + 3);
+  char& digit = text[end - 1];
+  ASSERT_TRUE(std::isdigit(static_cast<unsigned char>(digit))) << text.substr(node, 40);
+  digit = digit == '9' ? '1' : static_cast<char>(digit + 1);
+}
+
+TEST(ScenePrepare, ADamagedCacheFileIsComputedAgainWithAWarningNeverTrusted) {
+  const std::filesystem::path original = fresh_cache();
+  const PreparedScene first = prepare(reduced_scene(), original);
+  struct Case {
+    std::string extension, object;
+    PrepareStep step;
+    std::function<void(std::string&)> edit;
+  };
+  const auto flip = [](std::string& bytes) { bytes[bytes.size() / 2] ^= 0x10; };
+  const auto cut = [](std::string& bytes) { bytes.resize(bytes.size() / 2); };
+  const std::vector<Case> cases{
+      {".khzmodel", "tool", PrepareStep::reduced_model, flip},
+      {".khzmodel", "tool", PrepareStep::reduced_model, cut},
+      {".khztree", "tool", PrepareStep::point_tree, flip},
+      {".khzsdf", "wall", PrepareStep::distance_field, cut},
+      {".msh", "tool", PrepareStep::volume_mesh, change_a_coordinate},
+      {".msh", "wall", PrepareStep::volume_mesh, cut},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.object + " " + c.extension);
+    const std::filesystem::path directory = test::scratch_directory("damaged");
+    std::filesystem::remove_all(directory);
+    std::filesystem::copy(original, directory);
+    std::optional<std::filesystem::path> damaged;
+    for (const PrepareRecord& record : first.records) {
+      if (record.object == c.object && record.step == c.step) damaged = record.file;
+    }
+    ASSERT_TRUE(damaged && damaged->extension() == c.extension);
+    damage(directory / damaged->filename(), c.edit);
+
+    const PreparedScene second = prepare(reduced_scene(), directory);
+    std::vector<Done> recomputed;
+    for (const Done& d : done(second)) {
+      if (std::get<2>(d) == Origin::computed) recomputed.push_back(d);
+    }
+    EXPECT_EQ(recomputed, (std::vector<Done>{{c.object, c.step, Origin::computed}}));
+    ASSERT_EQ(second.warnings.size(), 1u);
+    EXPECT_EQ(second.warnings[0].object, c.object);
+    EXPECT_NE(second.warnings[0].message.find("the cached " + std::string(step_name(c.step)) +
+                                              " could not be used and was computed again ("),
+              std::string::npos)
+        << second.warnings[0].message;
+    // What was computed again is what the first preparation computed, and it replaced the
+    // damaged file: a third preparation reads everything.
+    for (std::size_t i = 0; i < 2; ++i) {
+      EXPECT_TRUE(same_bits(first.objects[i].model->mass(), second.objects[i].model->mass()));
+      EXPECT_TRUE(same_bits(first.objects[i].embedding->mesh().vertices,
+                            second.objects[i].embedding->mesh().vertices));
+    }
+    EXPECT_TRUE(same_bits(first.objects[0].deformable_tree->displacement_modes(7),
+                          second.objects[0].deformable_tree->displacement_modes(7)));
+    const auto values_a = first.objects[1].deformed_field->field(0).values();
+    const auto values_b = second.objects[1].deformed_field->field(0).values();
+    EXPECT_TRUE(std::equal(values_a.begin(), values_a.end(), values_b.begin(), values_b.end()));
+    ProductCache cache(directory);
+    prepare_scene(scene_of(reduced_scene()), cache);
+    EXPECT_EQ(cache.computed_count(), 0);
+  }
 }
 
 TEST(ScenePrepare, ProgressNamesObjectAndStepAndCanCancel) {

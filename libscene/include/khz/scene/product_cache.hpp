@@ -6,6 +6,7 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <khz/reduced/errors.hpp>
 #include <khz/scene/export.hpp>
 #include <string>
 #include <vector>
@@ -15,8 +16,10 @@ namespace khz::scene {
 /// A directory of prepared products, each stored as `<directory>/<name>-<key>.<extension>`.
 ///
 /// A product is written to a temporary file in the same directory and renamed into place, so an
-/// interrupted or failed computation never leaves a file that looks complete; a product file
-/// that exists is trusted (its own format carries a checksum that the reader verifies).
+/// interrupted or failed computation never leaves a file that looks complete. A product file
+/// that exists is read, and its reader checks it (the binary formats carry a checksum); one the
+/// reader rejects as damaged is never trusted: it is computed again and replaced, and the record
+/// says why.
 /// Not thread-safe; one ProductCache per preparing thread.
 class KHZ_SCENE_API ProductCache {
  public:
@@ -26,6 +29,9 @@ class KHZ_SCENE_API ProductCache {
     std::filesystem::path file;  ///< Where the product is stored.
     bool computed = false;       ///< false: read from the cache.
     double seconds = 0.0;        ///< Wall time of the computation (and its write) or the read.
+    /// Why the file that was there could not be used (the reader's message; then computed is
+    /// true), or empty.
+    std::string damaged;
   };
 
   /// Uses (and creates, with its parents) `directory`.
@@ -39,11 +45,12 @@ class KHZ_SCENE_API ProductCache {
   std::filesystem::path file(const std::string& name, const std::string& key,
                              const std::string& extension) const;
 
-  /// The product: read with `read(file)` if its file exists, otherwise computed with
-  /// `compute()`, written with `write(product, temporary)` and renamed into place. Records what
-  /// happened (records()).
-  /// @throws what read, compute or write throw (the cache keeps no partial file);
-  ///         khz::reduced::IoError if the rename fails.
+  /// The product: read with `read(file)` if its file exists and `read` accepts it, otherwise
+  /// computed with `compute()`, written with `write(product, temporary)` and renamed into place
+  /// (over a file `read` rejected with a khz::reduced::ParseError). Records what happened
+  /// (records()).
+  /// @throws what read (other than ParseError), compute or write throw (the cache keeps no
+  ///         partial file); khz::reduced::IoError if the rename fails.
   template <typename Product>
   Product fetch(const std::string& name, const std::string& key, const std::string& extension,
                 const std::function<Product(const std::filesystem::path&)>& read,
@@ -51,10 +58,15 @@ class KHZ_SCENE_API ProductCache {
                 const std::function<void(const Product&, const std::filesystem::path&)>& write) {
     const std::filesystem::path target = file(name, key, extension);
     const auto start = std::chrono::steady_clock::now();
+    std::string damaged;
     if (std::filesystem::exists(target)) {
-      Product product = read(target);
-      record(name, target, false, start);
-      return product;
+      try {
+        Product product = read(target);
+        record(name, target, false, start, {});
+        return product;
+      } catch (const reduced::ParseError& error) {
+        damaged = error.what();  // cut short, a flipped bit, another version: computed anew
+      }
     }
     Product product = compute();
     const std::filesystem::path temporary = temporary_file(target);
@@ -66,7 +78,7 @@ class KHZ_SCENE_API ProductCache {
       std::filesystem::remove(temporary, ignored);
       throw;
     }
-    record(name, target, true, start);
+    record(name, target, true, start, std::move(damaged));
     return product;
   }
 
@@ -79,7 +91,7 @@ class KHZ_SCENE_API ProductCache {
   std::filesystem::path temporary_file(const std::filesystem::path& target) const;
   static void commit(const std::filesystem::path& temporary, const std::filesystem::path& target);
   void record(const std::string& name, const std::filesystem::path& file, bool computed,
-              std::chrono::steady_clock::time_point start);
+              std::chrono::steady_clock::time_point start, std::string damaged);
 
   std::filesystem::path m_directory;
   std::vector<Record> m_records;
