@@ -209,6 +209,21 @@ TEST(PointTree, HandlesOneLevelAndCoincidentPoints) {
   }
 }
 
+TEST(PointTree, GivesEveryPointAParentWhenDistancesOverflow) {
+  // Finite points 1e200 m apart: every squared distance is infinite, and each new point still
+  // gets a parent (the lowest index, as for a tie), not the index −1 (found by fuzz_tree).
+  Pointshell far;
+  far.points.resize(3, 3);
+  far.points << 1e200, 0, 0, -1e200, 0, 0, 0, 1e200, 0;
+  far.normals = Eigen::MatrixX3d::Zero(3, 3);
+  far.normals.col(2).setOnes();
+  far.level_ends = {1, 3};
+  const PointTree tree(far);
+  ASSERT_EQ(tree.num_nodes(), 4);
+  EXPECT_EQ(tree.node(0).child_count, 3);
+  for (Eigen::Index n = 1; n < 4; ++n) EXPECT_EQ(tree.node(n).parent, 0) << n;
+}
+
 TEST(PointTree, IsTheSameOnAnyThreadCount) {
   const Pointshell& input = large_sphere();
   const PointTree parallel(input);

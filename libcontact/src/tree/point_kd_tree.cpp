@@ -77,7 +77,9 @@ void PointKdTree::nearest_in(std::int32_t id, const Eigen::Vector3d& p, double& 
     for (std::int32_t slot = node.begin; slot < node.end; ++slot) {
       const auto s = static_cast<std::size_t>(slot);
       const double d = (m_slot_positions[s] - p).squaredNorm();
-      if (d < best_squared || (d == best_squared && m_slot_points[s] < best)) {
+      // best < 0: the first point seen, even at a distance that overflows to infinity (points
+      // 1e200 m apart are finite but their squared distance is not).
+      if (best < 0 || d < best_squared || (d == best_squared && m_slot_points[s] < best)) {
         best_squared = d;
         best = m_slot_points[s];
       }

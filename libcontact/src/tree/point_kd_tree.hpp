@@ -41,7 +41,8 @@ class PointKdTree {
   /// Preconditions (the callers check them): 1 ≤ count ≤ points.rows() < 2³¹, finite points.
   PointKdTree(const Eigen::Ref<const PointMatrix>& points, Eigen::Index count);
 
-  /// The index of the point nearest to p; among equally near points the lowest index.
+  /// The index of the point nearest to p; among equally near points the lowest index (also when
+  /// the squared distances overflow to infinity: never −1).
   Eigen::Index nearest(const Eigen::Vector3d& p) const noexcept;
 
   /// Node 0 is the root.
