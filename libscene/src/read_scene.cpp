@@ -367,6 +367,17 @@ std::filesystem::path base_of(const std::filesystem::path& file, const SceneRead
                                         : options.base_directory;
 }
 
+/// Where relative paths in text that comes from no file resolve.
+std::filesystem::path text_base(const SceneReadOptions& options) {
+  return options.base_directory.empty() ? std::filesystem::current_path() : options.base_directory;
+}
+
+DeviceDescription parse_device(std::string_view text, ReadContext context, double rate_hz) {
+  context.rate_hz = rate_hz;
+  const Json json = detail::parse_json(text, context.source);
+  return detail::read_device(&json, Location{context.source, {}}, context);
+}
+
 }  // namespace
 
 SceneDescription read_scene(const std::filesystem::path& file, const SceneReadOptions& options) {
@@ -377,17 +388,17 @@ SceneDescription read_scene(const std::filesystem::path& file, const SceneReadOp
 DeviceDescription read_device_file(const std::filesystem::path& file, double rate_hz,
                                    const SceneReadOptions& options) {
   const std::string text = read_text_file(file, "device file");
-  ReadContext context = make_context(file.string(), base_of(file, options), options);
-  context.rate_hz = rate_hz;
-  const Json json = detail::parse_json(text, context.source);
-  return detail::read_device(&json, Location{context.source, {}}, context);
+  return parse_device(text, make_context(file.string(), base_of(file, options), options), rate_hz);
 }
 
 SceneDescription parse_scene(std::string_view text, const std::string& source,
                              const SceneReadOptions& options) {
-  const std::filesystem::path base =
-      options.base_directory.empty() ? std::filesystem::current_path() : options.base_directory;
-  return parse(text, make_context(source, base, options));
+  return parse(text, make_context(source, text_base(options), options));
+}
+
+DeviceDescription parse_device(std::string_view text, const std::string& source, double rate_hz,
+                               const SceneReadOptions& options) {
+  return parse_device(text, make_context(source, text_base(options), options), rate_hz);
 }
 
 }  // namespace khz::scene

@@ -326,6 +326,14 @@ TEST(ReducedModelFile, ReadsWithoutTheMesh) {
   expect_bitwise_equal(read_reduced_model(file), model());
 }
 
+TEST(ReducedModelFile, ParsesBytesInMemoryAsTheFileReaderDoes) {
+  expect_bitwise_equal(parse_reduced_model(valid_bytes(), "memory"), model());
+  std::string damaged = valid_bytes();
+  damaged[21] = static_cast<char>(damaged[21] ^ 0x01);
+  EXPECT_TRUE(test::throws_with_message<ParseError>([&] { parse_reduced_model(damaged, "memory"); },
+                                                    "memory: byte "));
+}
+
 TEST(ReducedModelFile, InfoReportsTheFacts) {
   const std::filesystem::path file = test::scratch_file("info.khzmodel");
   write_reduced_model(file, model(), box());

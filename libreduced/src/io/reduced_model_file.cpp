@@ -1,6 +1,7 @@
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/io/reduced_model_file.hpp>
 
+#include "detail/file_bytes.hpp"
 #include "detail/number_text.hpp"
 #include "io/basis_payload.hpp"
 
@@ -226,7 +227,11 @@ ReducedModel read_reduced_model(const std::filesystem::path& file, const VolumeM
 }
 
 ReducedModel read_reduced_model(const std::filesystem::path& file) {
-  ContainerReader reader = ContainerReader::open(file, reduced_model_file_format);
+  return parse_reduced_model(detail::read_file_bytes(file), file.string());
+}
+
+ReducedModel parse_reduced_model(std::string bytes, std::string source) {
+  ContainerReader reader(std::move(bytes), std::move(source), reduced_model_file_format);
   detail::BasisHeader header = read_header(reader);
   return read_body(reader, std::move(header));
 }

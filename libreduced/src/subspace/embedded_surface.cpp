@@ -16,7 +16,8 @@ namespace {
 // the parallel region); at 8k two threads take 0.75× the time, at 30k 0.57×. Far beyond the
 // caches the loop is bound by memory bandwidth (72 MB per call for 100k points at r = 30), which
 // one thread already saturated on that machine.
-constexpr Eigen::Index min_parallel_entries = 1 << 13;
+// (Read only by OpenMP's if clauses: unused in a build without OpenMP.)
+[[maybe_unused]] constexpr Eigen::Index min_parallel_entries = 1 << 13;
 // ‖n'_s‖ below this (dimensionless: N_s is unit) means F_s(q) has collapsed the normal direction
 // to rounding noise; the rest normal is kept (eq. 3.8 has no meaningful direction there).
 constexpr double min_normal_length = 1e-12;

@@ -1,5 +1,3 @@
-#include "subspace/energy_precompute.hpp"
-
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/subspace/reduced_model.hpp>
 
@@ -13,19 +11,6 @@ namespace khz::reduced {
 
 namespace {
 
-// C = λ·11ᵀ (on the normal strains) + μ·diag(2, 2, 2, 1, 1, 1): factors of the unit parts.
-detail::VoigtFactor lambda_factor() {
-  detail::VoigtFactor factor = detail::VoigtFactor::Zero(6, 1);
-  factor.topRows<3>().setOnes();
-  return factor;
-}
-
-detail::VoigtFactor mu_factor() {
-  detail::VoigtFactor factor = detail::VoigtFactor::Zero(6, 6);
-  factor.diagonal() << std::sqrt(2.0), std::sqrt(2.0), std::sqrt(2.0), 1.0, 1.0, 1.0;
-  return factor;
-}
-
 std::string group_name(int group) { return "material group " + std::to_string(group); }
 
 }  // namespace
@@ -38,39 +23,6 @@ std::vector<double> ReducedMaterialGroup::part_weights() const {
 ReducedModel::ReducedModel(Basis basis, std::vector<ReducedMaterialGroup> groups,
                            const ReducedIntegratorDefaults& defaults)
     : m_basis(std::move(basis)), m_groups(std::move(groups)), m_defaults(defaults) {}
-
-ReducedModel ReducedModel::precompute(const FemModel& fem, Basis basis,
-                                      const ReducedModelOptions& options) {
-  const Eigen::MatrixXd& u = basis.vectors;
-  if (u.rows() != fem.num_dofs()) {
-    throw Error("ReducedModel: the basis has " + std::to_string(u.rows()) +
-                " rows but the FEM model has " + std::to_string(fem.num_dofs()) + " dofs");
-  }
-  if (u.cols() == 0) throw Error("ReducedModel: the basis has no vectors");
-  if (!u.allFinite()) throw Error("ReducedModel: the basis has a non-finite entry");
-
-  std::vector<std::vector<detail::VoigtFactor>> factors;
-  for (const Material& material : fem.materials()) {
-    if (material.is_stvk()) {
-      factors.push_back({lambda_factor(), mu_factor()});
-    } else {
-      factors.push_back({detail::VoigtFactor(material.elasticity().llt().matrixL())});
-    }
-  }
-  std::vector<std::vector<EnergyPolynomial>> energies =
-      detail::precompute_group_energies(fem, u, factors, options.progress);
-
-  std::vector<ReducedMaterialGroup> groups;
-  for (std::size_t g = 0; g < energies.size(); ++g) {
-    const Material& material = fem.materials()[g];
-    const SparseMatrix mass = fem.unit_density_mass_matrix(static_cast<int>(g), options.mass);
-    Eigen::MatrixXd reduced_mass = u.transpose() * (mass * u);
-    reduced_mass = 0.5 * (reduced_mass + reduced_mass.transpose()).eval();
-    groups.push_back({material, material.is_stvk() ? VoigtMatrix::Zero() : material.elasticity(),
-                      1.0, std::move(energies[g]), std::move(reduced_mass)});
-  }
-  return ReducedModel(std::move(basis), std::move(groups), ReducedIntegratorDefaults{});
-}
 
 ReducedModel ReducedModel::from_parts(Basis basis, std::vector<ReducedMaterialGroup> groups,
                                       const ReducedIntegratorDefaults& defaults) {

@@ -55,4 +55,11 @@ KHZ_SCENE_API DeviceDescription read_device_file(const std::filesystem::path& fi
 KHZ_SCENE_API SceneDescription parse_scene(std::string_view text, const std::string& source,
                                            const SceneReadOptions& options = {});
 
+/// Parses and validates a device description given as text (what read_device_file() reads
+/// from a file); `source` names it in messages and relative paths resolve against
+/// options.base_directory, else the current directory.
+/// @throws SceneError as read_device_file().
+KHZ_SCENE_API DeviceDescription parse_device(std::string_view text, const std::string& source,
+                                             double rate_hz, const SceneReadOptions& options = {});
+
 }  // namespace khz::scene

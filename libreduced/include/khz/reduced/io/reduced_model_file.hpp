@@ -55,6 +55,7 @@
 #include <Eigen/Core>
 
 #include <filesystem>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -122,6 +123,10 @@ KHZ_REDUCED_API ReducedModel read_reduced_model(const std::filesystem::path& fil
 /// mesh). Every value is checked as by read_reduced_model(file, mesh); only the mesh
 /// fingerprint is not compared. @throws IoError, ParseError as read_reduced_model(file, mesh).
 KHZ_REDUCED_API ReducedModel read_reduced_model(const std::filesystem::path& file);
+
+/// read_reduced_model(file) on bytes in memory; `source` names them in messages (for fuzzers,
+/// and for models kept somewhere other than a file). @throws ParseError as read_reduced_model().
+KHZ_REDUCED_API ReducedModel parse_reduced_model(std::string bytes, std::string source);
 
 /// Reads and checks a whole reduced model file, as read_reduced_model(file) does (so a file this
 /// accepts loads), and reports its header facts, materials and integrator defaults.
