@@ -6,6 +6,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -26,7 +28,8 @@ std::string required_program(std::string_view path, std::string_view name,
   return std::string(path);
 }
 
-ProgramRun run_program(const std::string& program, const std::vector<std::string>& arguments) {
+ProgramRun run_program(const std::string& program, const std::vector<std::string>& arguments,
+                       const ProgramOptions& options) {
   const std::filesystem::path log = scratch_file("program-output.txt");
   std::vector<std::string> strings{program};
   strings.insert(strings.end(), arguments.begin(), arguments.end());
@@ -35,8 +38,14 @@ ProgramRun run_program(const std::string& program, const std::vector<std::string
   argv.push_back(nullptr);
 
   std::vector<std::string> variables{"OMP_NUM_THREADS=1"};
+  variables.insert(variables.end(), options.environment.begin(), options.environment.end());
+  const auto is_set = [&](std::string_view variable) {
+    const std::string_view name = variable.substr(0, variable.find('=') + 1);
+    return std::any_of(variables.begin(), variables.end(),
+                       [&](const std::string& set) { return set.starts_with(name); });
+  };
   for (char** variable = environ; *variable != nullptr; ++variable) {
-    if (std::strncmp(*variable, "OMP_NUM_THREADS=", 16) != 0) variables.emplace_back(*variable);
+    if (!is_set(*variable)) variables.emplace_back(*variable);
   }
   std::vector<char*> envp;
   for (std::string& s : variables) envp.push_back(s.data());
@@ -44,6 +53,10 @@ ProgramRun run_program(const std::string& program, const std::vector<std::string
 
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
+  if (!options.working_directory.empty()) {
+    posix_spawn_file_actions_addchdir_np(&actions, options.working_directory.c_str());
+  }
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
                                    O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
@@ -54,7 +67,9 @@ ProgramRun run_program(const std::string& program, const std::vector<std::string
     throw std::runtime_error("cannot start " + program + ": " + std::strerror(error));
   }
   int status = 0;
-  if (waitpid(pid, &status, 0) != pid) throw std::runtime_error("waitpid failed for " + program);
+  while (waitpid(pid, &status, 0) != pid) {
+    if (errno != EINTR) throw std::runtime_error("waitpid failed for " + program);
+  }
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_bytes(log)};
 }
 
