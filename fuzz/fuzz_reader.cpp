@@ -36,6 +36,10 @@ namespace {
 
 using namespace khz;
 
+void append_u64(std::string& bytes, std::uint64_t value) {
+  for (int i = 0; i < 8; ++i) bytes += static_cast<char>((value >> (8 * i)) & 0xff);
+}
+
 /// A container of `format` around the input: version (4 bytes, little-endian, missing bytes
 /// zero), then the payload, then the length and checksum made to agree.
 std::string sealed(std::string_view data, const reduced::ContainerFormat& format) {
@@ -46,17 +50,17 @@ std::string sealed(std::string_view data, const reduced::ContainerFormat& format
   bytes += version;
   const std::uint64_t length =
       reduced::container_header_bytes + payload.size() + reduced::container_checksum_bytes;
-  for (int i = 0; i < 8; ++i) bytes += static_cast<char>((length >> (8 * i)) & 0xff);
+  append_u64(bytes, length);
   bytes += payload;
-  const std::uint64_t checksum = XXH3_64bits(bytes.data(), bytes.size());
-  for (int i = 0; i < 8; ++i) bytes += static_cast<char>((checksum >> (8 * i)) & 0xff);
+  append_u64(bytes, XXH3_64bits(bytes.data(), bytes.size()));
   return bytes;
 }
 
 [[maybe_unused]] void fuzz_read_container(std::string_view data) {
   constexpr reduced::ContainerFormat format{"KHZFUZZ!", "fuzzing container", 1};
   reduced::ContainerReader reader{std::string(data), "fuzz", format};
-  // Each byte left chooses the next value's kind, so the value readers' size checks are reached.
+  // A word read before each value chooses its kind, so every value reader's size checks are
+  // reached.
   while (reader.remaining_bytes() > 0) {
     switch (reader.read_u32("a kind") % 6) {
       case 0:
