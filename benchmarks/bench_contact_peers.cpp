@@ -258,12 +258,11 @@ Eigen::Matrix3d rotation_about(const Eigen::Vector3d& axis, double angle) {
 }
 
 /// bench_contact_query's flank script (its scene B: dragon 0.5 m on the dino 1 m) scaled by 0.2 to
-/// these sizes; h is the dino field's voxel. The lateral part holds x = −0.9 m: the approach
-/// searches for contact from u = 1 m along +x, and from 1 m its growing steps would leap over this
-/// dino (0.1 m across in x) rather than land in it.
+/// these sizes; h is the dino field's voxel.
 TrajectoryScript flank_script(double h) {
   constexpr double scale = dino_size / 1.0;
   TrajectoryScript script;
+  script.start = scale * 1.0;  // as the 1 m dino's search starts 1 m out
   script.rotation = [](double t) {
     return Eigen::Matrix3d(
         rotation_about(Eigen::Vector3d::UnitX(), 40.0 * degrees * ramp(t, 0.45, 0.75)) *
@@ -271,7 +270,7 @@ TrajectoryScript flank_script(double h) {
                        12.0 * degrees * std::sin(3.0 * std::numbers::pi * t)));
   };
   script.lateral = [](double t) {
-    return Eigen::Vector3d(-0.9, scale * 0.03 * std::sin(2.0 * std::numbers::pi * t),
+    return Eigen::Vector3d(0.0, scale * 0.03 * std::sin(2.0 * std::numbers::pi * t),
                            scale * 0.2 * (-0.5 + ramp(t, 0.15, 0.45) - 0.4 * ramp(t, 0.6, 0.9)));
   };
   script.clearance = [h](double t) {
@@ -296,7 +295,7 @@ Eigen::Isometry3d pressed_pose(const TrajectoryScript& script, double t, double 
       [&](double x) {
         return khz::bench::min_distance(khz::bench::RigidShape(tree), field, at(x)) + depth;
       },
-      1.0, 0.25 * h, 1e-4 * h);
+      script.start, 0.25 * h, 1e-4 * h);
   return at(u);
 }
 

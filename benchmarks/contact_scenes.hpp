@@ -374,6 +374,9 @@ struct TrajectoryScript {
   /// penetration follows clearance() closely but not exactly; Trajectory::penetration has it.
   int keyframe_stride = 8;
   Eigen::Vector3d approach_axis = Eigen::Vector3d::UnitX();  // unit; the pointshell moves −axis
+  /// u (m) the search for the first keyframe's contact starts from: apart, but near enough that
+  /// its growing steps do not leap over the field object (1 m suits the 1 m dino).
+  double start = 1.0;
   std::function<Eigen::Matrix3d(double)> rotation;
   std::function<Eigen::Vector3d(double)> lateral;
   std::function<double(double)> clearance;
@@ -432,7 +435,7 @@ Trajectory record_trajectory(const TrajectoryScript& script, const ShapeAt& shap
 
   // u per keyframe, from the previous keyframe's.
   std::vector<double> keys;
-  double u = 1.0;
+  double u = script.start;
   for (int i = 0; i < script.poses + 3 * script.keyframe_stride; i += script.keyframe_stride) {
     const double s = std::min(parameter(i), 1.0);
     const auto shape = shape_at(q_at(s));
