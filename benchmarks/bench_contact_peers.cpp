@@ -68,10 +68,12 @@ namespace {
 namespace kc = khz::contact;
 namespace kr = khz::reduced;
 using khz::bench::Clock;
+using khz::bench::degrees;
+using khz::bench::quantile;
 using khz::bench::ramp;
+using khz::bench::rotation_about;
 using khz::bench::TrajectoryScript;
 
-constexpr double degrees = std::numbers::pi / 180.0;
 constexpr double dino_size = 0.2;    // m
 constexpr double dragon_size = 0.1;  // m
 
@@ -253,10 +255,6 @@ class BulletQuery {
 // ---------------------------------------------------------------------------------------------
 // Poses.
 
-Eigen::Matrix3d rotation_about(const Eigen::Vector3d& axis, double angle) {
-  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
-}
-
 /// bench_contact_query's flank script (its scene B: dragon 0.5 m on the dino 1 m) scaled by 0.2 to
 /// these sizes; h is the dino field's voxel.
 TrajectoryScript flank_script(double h) {
@@ -301,14 +299,6 @@ Eigen::Isometry3d pressed_pose(const TrajectoryScript& script, double t, double 
 
 // ---------------------------------------------------------------------------------------------
 // Statistics.
-
-/// The value below which a fraction of the values lie.
-double quantile(std::vector<double> values, double fraction) {
-  if (values.empty()) return std::nan("");
-  const auto k = static_cast<std::ptrdiff_t>(fraction * static_cast<double>(values.size() - 1));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[static_cast<std::size_t>(k)];
-}
 
 double angle_degrees(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) / degrees;

@@ -51,15 +51,12 @@ namespace {
 namespace kc = khz::contact;
 namespace kr = khz::reduced;
 using khz::bench::Clock;
+using khz::bench::degrees;
+using khz::bench::quantile;
 using khz::bench::ramp;
+using khz::bench::rotation_about;
 using khz::bench::Trajectory;
 using khz::bench::TrajectoryScript;
-
-constexpr double degrees = std::numbers::pi / 180.0;
-
-Eigen::Matrix3d rotation_about(const Eigen::Vector3d& axis, double angle) {
-  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
-}
 
 // ---------------------------------------------------------------------------------------------
 // Scenes.
@@ -350,14 +347,6 @@ bool query(const Scene<Tree, Field>& scene, std::size_t pose, kc::ContactWorkspa
   } else {
     return kc::query_contact(*scene.tree, *scene.field, frames, workspace);
   }
-}
-
-/// The value below which a fraction of the values lie.
-double quantile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0.0;
-  const auto k = static_cast<std::ptrdiff_t>(fraction * static_cast<double>(values.size() - 1));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[static_cast<std::size_t>(k)];
 }
 
 double mean(const std::vector<double>& values) {

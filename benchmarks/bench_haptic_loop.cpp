@@ -84,8 +84,9 @@ namespace kc = khz::contact;
 namespace kh = khz::haptic;
 namespace kr = khz::reduced;
 using khz::bench::Clock;
+using khz::bench::degrees;
+using khz::bench::quantile;
 
-constexpr double degrees = std::numbers::pi / 180.0;
 constexpr double period = 1e-3;  // s: the haptic loop's 1 kHz
 
 double microseconds(Clock::duration d) {
@@ -412,13 +413,6 @@ class Rig {
 
 // ---------------------------------------------------------------------------------------------
 // Part 1: full-cycle costs.
-
-double quantile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0.0;
-  const auto k = static_cast<std::ptrdiff_t>(fraction * static_cast<double>(values.size() - 1));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[static_cast<std::size_t>(k)];
-}
 
 struct Spread {
   double mean = 0, p50 = 0, p99 = 0, max = 0;

@@ -36,6 +36,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <utility>
 #include <vector>
@@ -382,6 +383,21 @@ struct TrajectoryScript {
   std::function<double(double)> clearance;
   std::function<Eigen::VectorXd(double)> q;  // empty for a rigid pointshell
 };
+
+/// Radians per degree.
+inline constexpr double degrees = std::numbers::pi / 180.0;
+
+inline Eigen::Matrix3d rotation_about(const Eigen::Vector3d& axis, double angle) {
+  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+}
+
+/// The value below which a fraction of the values lie; NaN for no values.
+inline double quantile(std::vector<double> values, double fraction) {
+  if (values.empty()) return std::nan("");
+  const auto k = static_cast<std::ptrdiff_t>(fraction * static_cast<double>(values.size() - 1));
+  std::nth_element(values.begin(), values.begin() + k, values.end());
+  return values[static_cast<std::size_t>(k)];
+}
 
 /// Cubic smoothstep from 0 at a to 1 at b.
 inline double ramp(double s, double a, double b) {
