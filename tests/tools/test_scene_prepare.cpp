@@ -672,8 +672,7 @@ TEST(ScenePrepare, ADamagedCacheFileIsComputedAgainWithAWarningNeverTrusted) {
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.object + " " + c.extension);
-    const std::filesystem::path directory = test::scratch_directory("damaged");
-    std::filesystem::remove_all(directory);
+    const std::filesystem::path directory = test::scratch_directory("damaged");  // removed
     std::filesystem::copy(original, directory);
     std::optional<std::filesystem::path> damaged;
     for (const PrepareRecord& record : first.records) {

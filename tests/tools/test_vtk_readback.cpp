@@ -86,7 +86,7 @@ void expect_mesh(const Json& data, const reduced::VertexMatrix& vertices,
   EXPECT_TRUE(holds({{"components", 1}, {"values", data["coordinates"]}}, flat));
   for (Eigen::Index c = 0; c < cells.rows(); ++c) {
     ASSERT_EQ(data["cell_types"][static_cast<std::size_t>(c)], cell_type) << c;
-    std::vector<int> expected(cells.row(c).data(), cells.row(c).data() + cells.cols());
+    std::vector<int> expected(static_cast<std::size_t>(cells.cols()));
     for (Eigen::Index k = 0; k < cells.cols(); ++k)
       expected[static_cast<std::size_t>(k)] = cells(c, k);
     EXPECT_EQ(data["cell_points"][static_cast<std::size_t>(c)].get<std::vector<int>>(), expected)
