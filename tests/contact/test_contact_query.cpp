@@ -665,6 +665,106 @@ TEST(ContactQuery, TimeBudgetStopsEarlyWhenTight) {
   }
 }
 
+/// A clock for DegradationOptions::clock that only LookupTimed fields move, by 1 µs per lookup: a
+/// query's time is its number of lookups, the same in every run.
+struct LookupClock {
+  static inline std::int64_t lookups = 0;
+  static double now() noexcept { return 1e-6 * static_cast<double>(lookups); }
+};
+
+/// An analytic shape whose every lookup costs 1 µs on LookupClock.
+struct LookupTimed {
+  ImplicitShape shape;
+  double distance(const Eigen::Vector3d& p) const noexcept {
+    ++LookupClock::lookups;
+    return shape.distance(p);
+  }
+  double distance_and_gradient(const Eigen::Vector3d& p, Eigen::Vector3d& g) const noexcept {
+    ++LookupClock::lookups;
+    return shape.distance_and_gradient(p, g);
+  }
+};
+
+/// Every ContactResult member, exactly.
+void expect_identical(const ContactResult& a, const ContactResult& b) {
+  EXPECT_EQ(a.force, b.force);
+  EXPECT_EQ(a.torque, b.torque);
+  EXPECT_EQ(a.force_by_translation, b.force_by_translation);
+  EXPECT_EQ(a.force_by_rotation, b.force_by_rotation);
+  EXPECT_EQ(a.torque_by_translation, b.torque_by_translation);
+  EXPECT_EQ(a.torque_by_rotation, b.torque_by_rotation);
+  EXPECT_EQ(a.pointshell_reduced_force, b.pointshell_reduced_force);
+  EXPECT_EQ(a.statistics.points_in_contact, b.statistics.points_in_contact);
+  EXPECT_EQ(a.statistics.deepest_penetration, b.statistics.deepest_penetration);
+  EXPECT_EQ(a.statistics.deepest_level, b.statistics.deepest_level);
+  EXPECT_EQ(a.statistics.complete, b.statistics.complete);
+}
+
+// Issue 19 item 3: a time budget cuts only queries that do not fit it. On a clock that only
+// lookups move, a budget half a lookup above a query's full cost never cuts it (the result is
+// the full traversal's, bit for bit); below it the query returns within one clock interval
+// (2 batches of 16 lookups) past the budget, either complete (its last level ended in that
+// interval) or with the levels it completed, bit for bit as max_level would. Rigid and
+// deformable pointshells, several poses, budgets from a fifth of the cost up.
+TEST(ContactQuery, TimeBudgetCutsExactlyTheQueriesThatDoNotFit) {
+  const auto check = [](const auto& tree, const auto& query) {
+    const auto run = [&](const ContactOptions& options) {
+      ContactWorkspace workspace(tree, options);  // new: no contact floor from an earlier query
+      const std::int64_t before = LookupClock::lookups;
+      EXPECT_TRUE(query(workspace));
+      return std::pair(workspace.result(), LookupClock::lookups - before);
+    };
+    const auto [full, cost] = run(ContactOptions{});
+    ASSERT_GT(full.statistics.points_in_contact, 0);
+    ASSERT_GT(full.statistics.deepest_level, 1);
+    int cut = 0;
+    for (const double budget : {0.2 * static_cast<double>(cost), 0.5 * static_cast<double>(cost),
+                                static_cast<double>(cost) - 0.5, static_cast<double>(cost) + 0.5}) {
+      ContactOptions options;
+      options.degradation.mode = DegradationOptions::Mode::time_budget;
+      options.degradation.budget_microseconds = budget;
+      options.degradation.clock = &LookupClock::now;
+      const auto [budgeted, spent] = run(options);
+      if (budget > static_cast<double>(cost)) {
+        expect_identical(budgeted, full);
+        continue;
+      }
+      // Within one clock interval of the budget, having completed what it could.
+      EXPECT_LE(static_cast<double>(spent), budget + 2 * 16) << "budget " << budget;
+      EXPECT_LE(budgeted.statistics.microseconds, budget + 2 * 16);
+      if (budgeted.statistics.complete) {
+        EXPECT_GT(budget, static_cast<double>(cost) - 2 * 16) << "not cut, " << cost;
+        expect_identical(budgeted, full);
+        continue;
+      }
+      ++cut;
+      ContactOptions fixed;
+      fixed.max_level = budgeted.statistics.deepest_level;
+      expect_identical(budgeted, run(fixed).first);
+    }
+    EXPECT_GE(cut, 2);
+  };
+  const PointTree& sphere = fixture().sphere;
+  const LookupTimed plane{ground()};
+  for (const double height : {0.9, 0.7, 0.5}) {
+    ContactFrames frames;
+    frames.pointshell = pose(Eigen::Vector3d(0.3, 0.1, 0.0), Eigen::Vector3d(0.0, 0.0, height));
+    check(sphere, [&](ContactWorkspace& w) { return query_contact(sphere, plane, frames, w); });
+  }
+  const DeformablePointTree& cube = fixture().cube;
+  const LookupTimed ball{Sphere(Eigen::Vector3d::Zero(), 0.45)};
+  std::mt19937 random(5);
+  std::normal_distribution<double> gauss(0.0, 0.1);
+  for (int trial = 0; trial < 3; ++trial) {
+    Eigen::VectorXd q(r);
+    for (Eigen::Index j = 0; j < r; ++j) q[j] = gauss(random);
+    ContactFrames frames;
+    frames.field = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d(1.1 - 0.1 * trial, 0.5, 0.4));
+    frames.grasp_point = frames.field.translation();
+    check(cube, [&](ContactWorkspace& w) { return query_contact(cube, q, ball, frames, w); });
+  }
+}
+
 TEST(ContactQuery, AreaWeightsScaleEachPointAndCountTowardsL) {
   const PointTree& tree = fixture().sphere;
   const ImplicitShape plane = ground();

@@ -9,20 +9,9 @@
 namespace khz::contact {
 namespace {
 
-/// The cost per unit a time-budget query plans with before it has measured one (s): a
-/// deliberately slow node (bench_contact_query measures 20–80 ns), so the first queries stay
-/// within budget.
-constexpr double initial_seconds_per_unit = 100e-9;
-/// Queries with fewer cost units than this do not update the measured cost per unit: fixed
+/// Queries with fewer cost units than this do not update the typical cost per unit: fixed
 /// costs would dominate it.
 constexpr double min_measured_units = 64.0;
-/// A measured cost per unit below the current one moves it by this fraction per query; a slower
-/// one replaces it at once, up to max_cost_jump times the current one per query, so a budget holds
-/// at the 99th percentile while a query the OS preempted (milliseconds of wall time, not a slower
-/// traversal) doubles the estimate once rather than degrading hundreds of queries
-/// (bench_haptic_loop saw 500 degraded queries after one 2.5 ms stall without the cap).
-constexpr double cost_decay = 1.0 / 32.0;
-constexpr double max_cost_jump = 2.0;
 /// The typical cost per unit (the contact floor's) moves towards the measured one by at most
 /// this factor per query, up or down.
 constexpr double typical_cost_step = 1.0 + 1.0 / 32.0;
@@ -74,6 +63,8 @@ ContactWorkspace::ContactWorkspace(const PointTree& tree, const ContactOptions& 
   m_previous_q = Eigen::VectorXd::Zero(pointshell_dimension);
   m_previous_field_q = Eigen::VectorXd::Zero(field_dimension);
   m_contact_reduced_force = Eigen::VectorXd::Zero(pointshell_dimension);
+  m_kept_contact_reduced_force = Eigen::VectorXd::Zero(pointshell_dimension);
+  m_kept_field_reduced_force = Eigen::VectorXd::Zero(field_dimension);
   m_result.pointshell_reduced_force = Eigen::VectorXd::Zero(pointshell_dimension);
   m_result.field_reduced_force = Eigen::VectorXd::Zero(field_dimension);
   m_previous_rotation.setIdentity();
@@ -114,7 +105,6 @@ void ContactWorkspace::reset() noexcept {
   m_have_previous = false;
   m_warm_level = -1;
   m_contact_floor = -1;
-  m_seconds_per_unit = initial_seconds_per_unit;
   m_typical_seconds_per_unit = 0.0;
 }
 
@@ -183,13 +173,6 @@ std::uint32_t ContactWorkspace::coherent_skip_until(double gap) const noexcept {
   return m_cycle + 1 + static_cast<std::uint32_t>(std::max(skips, 0.0));
 }
 
-double ContactWorkspace::seconds_per_unit(double elapsed, double units, double level_seconds,
-                                          double level_units) const noexcept {
-  const double measured = units >= min_measured_units ? elapsed / units : 0.0;
-  const double level = level_units >= min_measured_units ? level_seconds / level_units : 0.0;
-  return std::max({m_seconds_per_unit, measured, level});
-}
-
 void ContactWorkspace::end_degradation(int deepest_level, bool in_contact, double seconds,
                                        double cost_units) noexcept {
   m_warm_level = deepest_level;
@@ -201,9 +184,6 @@ void ContactWorkspace::end_degradation(int deepest_level, bool in_contact, doubl
           ? measured
           : std::clamp(measured, m_typical_seconds_per_unit / typical_cost_step,
                        m_typical_seconds_per_unit * typical_cost_step);
-  m_seconds_per_unit = measured >= m_seconds_per_unit
-                           ? std::min(measured, max_cost_jump * m_seconds_per_unit)
-                           : m_seconds_per_unit + cost_decay * (measured - m_seconds_per_unit);
 }
 
 }  // namespace khz::contact

@@ -22,17 +22,24 @@ enum class ContactGradient {
   normal_direction,
 };
 
-/// Graceful degradation (§3.10.3): the traversal renders level after level and either
-/// completes a level or does not start it. Before entering level i+1 it predicts the cost of
-/// the whole query with that level, eq. 3.13:
+/// Graceful degradation (§3.10.3): the traversal renders level after level, and a query that
+/// stops early returns exactly what the levels it completed found (as with max_level).
+///
+/// node_count mode decides before entering level i+1 from its predicted cost, eq. 3.13:
 ///   α (V_traversed + V_queued) + β (V_contact + V_contact / V_traversed · V_queued)
-/// (α = 1, β = contact_weight), and renders the level only if the prediction stays within the
-/// threshold: the warm one for levels no deeper than the deepest level of the previous query,
-/// the cold one, cold_fraction × warm, below it (so the level of detail does not flicker).
+/// (α = 1, β = contact_weight), entering it only if the prediction stays within the threshold:
+/// the warm one for levels no deeper than the deepest level of the previous query, the cold one,
+/// cold_fraction × warm, below it (so the level of detail does not flicker).
+///
+/// time_budget mode does not predict: it enters the next level while time is left, reads the
+/// clock every 32 nodes of it, and abandons the level the moment the query has run longer than
+/// the budget, returning the levels before it. So it never cuts a query that fits its budget,
+/// and one that does not fit overruns it by at most one clock interval (a few µs).
+///
 /// A contact floor overrides both: when the previous query had points in contact, every level
-/// but its deepest is rendered again whatever the prediction, and its deepest too while it
-/// fits (node_count: the warm threshold; time_budget: the budget at the machine's typical cost
-/// per unit, which a stall barely moves). So a contact is handed to a coarser level at most one
+/// but its deepest is rendered again whatever the cost, and its deepest too while it fits
+/// (node_count: the warm threshold; time_budget: the budget at the machine's typical cost per
+/// unit, which a stall barely moves). So a contact is handed to a coarser level at most one
 /// level per query, and not at all because of a spike in the measured cost: never at once to a
 /// coarse level whose few points could let the object sink through a thin wall. A query whose
 /// contact has grown can exceed its budget by the cost of its second-deepest level's growth for
@@ -41,13 +48,8 @@ struct KHZ_CONTACT_API DegradationOptions {
   enum class Mode {
     none,        ///< Every level, as deep as contact reaches.
     node_count,  ///< Thresholds in cost units: warm_threshold (V_W of §3.10.3).
-    /// Thresholds in time: the query measures its cost per unit as it runs (steady clock, a
-    /// few reads per query) and renders a level only if the time spent plus the level's
-    /// predicted time stays within budget_microseconds (warm) or cold_fraction of it (cold).
-    /// The cost per unit rises at once when a query is slower (at most doubling per query, so
-    /// one query the OS preempted does not degrade hundreds) and falls slowly, so a budget
-    /// holds at the 99th percentile once the first queries have measured it (the contact floor
-    /// below aside).
+    /// A budget in time, budget_microseconds per query: each level is rendered if the query
+    /// completes it within the budget, and abandoned when it cannot (the contact floor aside).
     time_budget,
   };
   Mode mode = Mode::none;
@@ -55,16 +57,18 @@ struct KHZ_CONTACT_API DegradationOptions {
   double warm_threshold = 2500.0;
   /// µs per query; time_budget mode, > 0.
   double budget_microseconds = 250.0;
-  /// V_C / V_W, in (0, 1]; the thesis uses 0.8.
+  /// V_C / V_W, in (0, 1]; node_count mode (the thesis uses 0.8).
   double cold_fraction = 0.8;
   /// β/α of eq. 3.13: the extra cost of a point in contact (normal, force, gradients, reduced
   /// force) in units of a traversed node, ≥ 0; the thesis suggests up to 1.5, and counts
-  /// traversed nodes only (0).
+  /// traversed nodes only (0). In time_budget mode it weighs the typical cost per unit the
+  /// contact floor measures.
   double contact_weight = 0.0;
   /// The clock a time budget is measured on: seconds from any origin, never decreasing; null
-  /// (the default) is the steady clock. Read a few times per query (at its start, after each
-  /// level, at its end; ContactStatistics::microseconds too), never per point. For simulating a
-  /// slower or stalling machine in tests, or for driving the budget from another time source.
+  /// (the default) is the steady clock. Read at a query's start, after each level, every 32
+  /// nodes of a level the budget may cut, and at its end (ContactStatistics::microseconds).
+  /// For simulating a slower or stalling machine in tests, or for driving the budget from
+  /// another time source.
   double (*clock)() noexcept = nullptr;
 };
 

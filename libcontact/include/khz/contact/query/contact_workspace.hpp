@@ -72,13 +72,6 @@ class KHZ_CONTACT_API ContactWorkspace {
                        const double* q, const double* field_q, double field_bound) noexcept;
   /// The query after which a node culled with gap `gap` (m, > 0) must be looked at again.
   std::uint32_t coherent_skip_until(double gap) const noexcept;
-  /// time_budget mode: the cost per unit (s) to plan the next level with, `elapsed` (s) into a
-  /// query that has done `units` so far, `level_seconds` and `level_units` of them in the level
-  /// just finished: the largest of the remembered cost and the measured ones. Deeper levels read
-  /// memory the coarse ones left cold, so the last level's cost predicts the next better than
-  /// the query's average does.
-  double seconds_per_unit(double elapsed, double units, double level_seconds,
-                          double level_units) const noexcept;
   /// time_budget mode: whether `units` cost units take at most `budget` seconds at the typical
   /// cost per unit, which follows the measured one by at most 1/32 per query either way (so a
   /// stall moves it little, a slower machine in a few hundred queries); true before any
@@ -87,7 +80,7 @@ class KHZ_CONTACT_API ContactWorkspace {
     return units * m_typical_seconds_per_unit <= budget;
   }
   /// After a query: keeps the level of detail, whether it was in contact (then its deepest level
-  /// is the next query's floor) and the measured cost per unit.
+  /// is the next query's floor) and the typical cost per unit.
   void end_degradation(int deepest_level, bool in_contact, double seconds,
                        double cost_units) noexcept;
 
@@ -105,6 +98,9 @@ class KHZ_CONTACT_API ContactWorkspace {
   std::vector<std::int32_t> m_next;         // nodes queued for the next level
   Eigen::VectorXd m_abs_q;                  // |q| of a deformable pointshell, per query
   Eigen::VectorXd m_contact_reduced_force;  // scratch: the unscaled Σ U_sᵀ f_s
+  // time_budget: the unscaled reduced forces of the levels before one the budget may cut.
+  Eigen::VectorXd m_kept_contact_reduced_force;
+  Eigen::VectorXd m_kept_field_reduced_force;
 
   // Temporal coherence.
   std::vector<std::uint32_t> m_skip_until;  // per node: skip while m_cycle < this
@@ -121,9 +117,8 @@ class KHZ_CONTACT_API ContactWorkspace {
 
   // Graceful degradation.
   int m_warm_level = -1;
-  int m_contact_floor = -1;         // the previous query's deepest level, if it was in contact
-  double m_seconds_per_unit = 0.0;  // time_budget: measured cost per unit
-  double m_typical_seconds_per_unit = 0.0;  // time_budget: the same, rate-limited (0: none yet)
+  int m_contact_floor = -1;  // the previous query's deepest level, if it was in contact
+  double m_typical_seconds_per_unit = 0.0;  // time_budget: rate-limited cost per unit (0: none yet)
 };
 
 }  // namespace khz::contact

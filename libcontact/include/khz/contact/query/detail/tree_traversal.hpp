@@ -144,6 +144,8 @@ struct TraversalAccess {
   /// Nodes whose points are moved into the field's frame, and whose field memory is requested,
   /// before the first of them is looked up.
   static constexpr Eigen::Index batch = 16;
+  /// A level the time budget may cut reads the clock before every this many batches.
+  static constexpr Eigen::Index batches_per_clock_reading = 2;
   using Clock = std::chrono::steady_clock;
 
   static void fail(ContactWorkspace& ws) noexcept {
@@ -237,10 +239,14 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
     return traversed + queued + degradation.contact_weight * (contacts + contact_share * queued);
   };
 
-  // time_budget: when the level just finished started, and the cost units done before it.
-  struct {
-    double seconds = 0.0, units = 0.0;
-  } level_started;
+  // time_budget: a level the budget may cut is abandoned as soon as the clock passes the budget,
+  // and the query returns what the levels before it found, exactly as if it had stopped there:
+  // so it never cuts a query that fits, and overruns by at most one clock interval.
+  const double budget_seconds = degradation.budget_microseconds * 1e-6;
+  bool abandonable = false;
+  ContactSums kept_sums;
+  std::int64_t kept_points_in_contact = 0;
+  double kept_deepest_penetration = 0.0;
 
   // Level 0 is always rendered: all its nodes.
   std::int32_t* current = ws.m_current.data();
@@ -259,7 +265,13 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
   for (int level = 0;; ++level) {
     const Eigen::Index first_new_point = shell.level_begin(level);
     Eigen::Index next_count = 0;
+    bool abandoned = false;
     for (Eigen::Index begin = 0; begin < current_count; begin += batch) {
+      if (abandonable && (begin / batch) % batches_per_clock_reading == 1 &&
+          now() - start > budget_seconds) {
+        abandoned = true;
+        break;
+      }
       const Eigen::Index end = std::min(begin + batch, current_count);
       [[maybe_unused]] int batch_count = 0;
       // Phase 1: the batch's new points in the field's frame, and the field memory their
@@ -355,6 +367,15 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
         }
       }
     }
+    if (abandoned) {
+      sums = kept_sums;
+      stats.points_in_contact = kept_points_in_contact;
+      stats.deepest_penetration = kept_deepest_penetration;
+      ws.m_contact_reduced_force = ws.m_kept_contact_reduced_force;
+      result.field_reduced_force = ws.m_kept_field_reduced_force;
+      stats.complete = false;
+      break;
+    }
     stats.deepest_level = level;
     if (next_count == 0 || level + 1 == tree.num_levels()) break;
     if (level == options.max_level) {
@@ -362,45 +383,48 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
       break;
     }
 
-    // Graceful degradation (§3.10.3): render level + 1 only if its predicted cost fits. The
-    // contact floor overrides that: when the previous query had points in contact, a level more
-    // than one above its deepest is always rendered, and its deepest level too while the
-    // contact's cost at the machine's typical speed fits the budget. So a spike in the measured
-    // cost (a preempted thread) drops no level, and a contact whose cost has really grown is
-    // handed to a coarser level one level per query, never at once to a coarse level whose few
-    // points could let the object sink through.
+    // Graceful degradation (§3.10.3). The contact floor comes first: when the previous query had
+    // points in contact, a level more than one above its deepest is always rendered, and its
+    // deepest level too while the contact's cost at the machine's typical speed fits. So a spike
+    // in the measured cost (a preempted thread) drops no level, and a contact whose cost has
+    // really grown is handed to a coarser level one level per query, never at once to a coarse
+    // level whose few points could let the object sink through.
     if (degradation.mode != DegradationOptions::Mode::none) {
-      const double limit_fraction = level + 1 <= ws.m_warm_level ? 1.0 : degradation.cold_fraction;
-      const double traversed = static_cast<double>(stats.nodes_traversed);
-      const double contacts = static_cast<double>(stats.points_in_contact);
-      // Queued nodes temporal coherence will skip cost next to nothing: only the others count
-      // (one read each, against a lookup each for the nodes it would otherwise predict).
-      Eigen::Index skipped_next = 0;
-      if (coherent) {
-        for (Eigen::Index k = 0; k < next_count; ++k) {
-          skipped_next += ws.m_skip_until[static_cast<std::size_t>(next[k])] > ws.m_cycle ? 1 : 0;
+      const bool floor_level = level + 1 == ws.m_contact_floor;
+      // Eq. 3.13's prediction, for node_count and the floor's level only.
+      const auto predicted_units = [&]() noexcept {
+        // Queued nodes temporal coherence will skip cost next to nothing: only the others count
+        // (one read each, against a lookup each for the nodes it would otherwise predict).
+        Eigen::Index skipped_next = 0;
+        if (coherent) {
+          for (Eigen::Index k = 0; k < next_count; ++k) {
+            skipped_next += ws.m_skip_until[static_cast<std::size_t>(next[k])] > ws.m_cycle ? 1 : 0;
+          }
         }
-      }
-      const double queued = static_cast<double>(next_count - skipped_next);
-      const double units = cost_units(traversed, contacts, queued);
+        return cost_units(static_cast<double>(stats.nodes_traversed),
+                          static_cast<double>(stats.points_in_contact),
+                          static_cast<double>(next_count - skipped_next));
+      };
       bool render = level + 1 < ws.m_contact_floor;
-      if (degradation.mode == DegradationOptions::Mode::node_count) {
-        render = render || units <= limit_fraction * degradation.warm_threshold;
-      } else {
-        const double budget = degradation.budget_microseconds * 1e-6;
-        const double elapsed = now() - start;
-        const double units_so_far = cost_units(traversed, contacts, 0.0);
-        const double per_unit =
-            ws.seconds_per_unit(elapsed, units_so_far, elapsed - level_started.seconds,
-                                units_so_far - level_started.units);
-        const double predicted = elapsed + per_unit * (units - units_so_far);
-        render = render || predicted <= limit_fraction * budget ||
-                 (level + 1 == ws.m_contact_floor && ws.fits_at_typical_speed(units, budget));
-        level_started = {elapsed, units_so_far};
+      abandonable = false;
+      if (!render && degradation.mode == DegradationOptions::Mode::node_count) {
+        const double limit_fraction =
+            level + 1 <= ws.m_warm_level ? 1.0 : degradation.cold_fraction;
+        render = predicted_units() <= limit_fraction * degradation.warm_threshold;
+      } else if (!render) {
+        render = floor_level && ws.fits_at_typical_speed(predicted_units(), budget_seconds);
+        if (!render && now() - start < budget_seconds) render = abandonable = true;
       }
       if (!render) {
         stats.complete = false;
         break;
+      }
+      if (abandonable) {
+        kept_sums = sums;
+        kept_points_in_contact = stats.points_in_contact;
+        kept_deepest_penetration = stats.deepest_penetration;
+        ws.m_kept_contact_reduced_force = ws.m_contact_reduced_force;
+        ws.m_kept_field_reduced_force = result.field_reduced_force;
       }
     }
     std::swap(current, next);
