@@ -6,8 +6,9 @@
 // contact force, the simulation pose's step and turn once the hand has been still for 0.1 s
 // (targets: jump p99 ≤ 5 %, steady press ≤ 1 µm and ≤ 1e-4 rad); under a time budget, how many
 // of the cut cycles would have fit (their cycle in a run without degradation took at most the
-// budget; the two runs follow nearly the same states). A plain program (CLI11): the
-// first run prepares the scenes into --cache (minutes), later runs read them.
+// budget; the two runs follow nearly the same states), and how many took at most 90 % of it.
+// A plain program (CLI11): the first run prepares the scenes into --cache (minutes), later runs
+// read them.
 
 #include <khz/run/contact_sweep.hpp>
 #include <khz/run/cycle_log.hpp>
@@ -38,6 +39,9 @@ struct SceneFigures {
   /// Cut cycles whose full traversal (the same cycle of a run without degradation) took at most
   /// the budget: cycles the planner cut although they would have fit (−1: no time budget).
   std::int64_t cut_that_fit = -1;
+  /// Of those, the ones whose full traversal took at most 90 % of the budget: clearly fit, beyond
+  /// the two runs' timing noise.
+  std::int64_t cut_that_clearly_fit = -1;
   double force_error = 0, max_force_error = 0;
   double hold_time = 0, still_step_p99 = 0, still_step_max = 0, still_turn_p99 = 0,
          still_turn_max = 0;
@@ -74,11 +78,12 @@ SceneFigures measure(scene::PreparedScene& prepared, const std::filesystem::path
     scene::SceneRuntime full(prepared);
     const run::HandRows full_rows = run::run_scene(full);
     degradation = given;
-    f.cut_that_fit = 0;
+    f.cut_that_fit = f.cut_that_clearly_fit = 0;
     for (std::size_t i = 0; i < std::min(rows.front().size(), full_rows.front().size()); ++i) {
-      if (!rows.front()[i].complete && full_rows.front()[i].query_us <= given.budget_microseconds) {
-        ++f.cut_that_fit;
-      }
+      if (rows.front()[i].complete) continue;
+      const double full_us = full_rows.front()[i].query_us;
+      f.cut_that_fit += full_us <= given.budget_microseconds ? 1 : 0;
+      f.cut_that_clearly_fit += full_us <= 0.9 * given.budget_microseconds ? 1 : 0;
     }
   }
 
@@ -123,12 +128,12 @@ int main(int argc, char** argv) {
                  "Write each scene's steady press as DIR/<scene>_press.csv (cycle log)");
   CLI11_PARSE(app, argc, argv);
 
-  std::printf("%-26s %8s %8s %8s %10s %7s %7s %8s %8s %10s %10s %10s %10s\n", "scene", "jump p99",
-              "rendered", "deepest", "observer", "cut", "of them", "F error", "F max", "still p99",
-              "still max", "turn p99", "turn max");
-  std::printf("%-26s %8s %8s %8s %10s %7s %7s %8s %8s %10s %10s %10s %10s\n", "", "% peak",
-              "% peak", "voxels", "lowest J", "cycles", "fit", "RMS %", "%", "µm", "µm", "rad",
-              "rad");
+  std::printf("%-26s %8s %8s %8s %10s %7s %7s %7s %8s %8s %10s %10s %10s %10s\n", "scene",
+              "jump p99", "rendered", "deepest", "observer", "cut", "of them", "of them", "F error",
+              "F max", "still p99", "still max", "turn p99", "turn max");
+  std::printf("%-26s %8s %8s %8s %10s %7s %7s %7s %8s %8s %10s %10s %10s %10s\n", "", "% peak",
+              "% peak", "voxels", "lowest J", "cycles", "fit", "≤ 90 %", "RMS %", "%", "µm", "µm",
+              "rad", "rad");
   for (const std::string& name : scenes) {
     scene::ProductCache products(cache);
     scene::PreparedScene prepared = scene::prepare_scene(
@@ -137,13 +142,15 @@ int main(int argc, char** argv) {
         measure(prepared, logs.empty() ? std::filesystem::path()
                                        : std::filesystem::path(logs) / (name + "_press.csv"));
     std::printf(
-        "%-26s %7.1f%% %7.1f%% %8.2f %10.3g %7lld %7s %7.2f%% %7.2f%% %10.3g %10.3g %10.3g "
+        "%-26s %7.1f%% %7.1f%% %8.2f %10.3g %7lld %7s %7s %7.2f%% %7.2f%% %10.3g %10.3g %10.3g "
         "%10.3g%s\n",
         name.c_str(), f.contact_jump, f.rendered_jump, f.deepest_voxels, f.lowest_energy,
         static_cast<long long>(f.cut_cycles),
-        f.cut_that_fit < 0 ? "–" : std::to_string(f.cut_that_fit).c_str(), 100.0 * f.force_error,
-        100.0 * f.max_force_error, 1e6 * f.still_step_p99, 1e6 * f.still_step_max, f.still_turn_p99,
-        f.still_turn_max, f.still_cycles > 0 ? "" : "  (never still)");
+        f.cut_that_fit < 0 ? "–" : std::to_string(f.cut_that_fit).c_str(),
+        f.cut_that_clearly_fit < 0 ? "–" : std::to_string(f.cut_that_clearly_fit).c_str(),
+        100.0 * f.force_error, 100.0 * f.max_force_error, 1e6 * f.still_step_p99,
+        1e6 * f.still_step_max, f.still_turn_p99, f.still_turn_max,
+        f.still_cycles > 0 ? "" : "  (never still)");
     if (map) {
       const std::vector<run::StabilityPoint> points =
           run::stability_map(prepared, run::default_stability_settings(prepared.description));
