@@ -1,13 +1,19 @@
 // Full FEM model throughput: R(u) and K(u) together (a Newton iteration's assembly), the
 // internal forces alone and the strain energy alone, on ~10k tetrahedra (a 12×12×12 box, six per
-// cube) and ~10k hexahedra (22×22×21), with 1 and 2 OpenMP threads (the argument).
+// cube) and ~10k hexahedra (22×22×21), on 1 and 2 worker threads (the argument). And a whole
+// nonlinear static solve (assembly, CHOLMOD, OpenBLAS) under worker_threads() of 1, 2 and 4, with
+// the context switches per solve: 4 oversubscribes a 2-core machine, as CHOLMOD's 4 OpenMP
+// threads did before the setting bounded them.
 #include <khz/reduced/fem/fem_model.hpp>
 #include <khz/reduced/meshing/box_mesh.hpp>
+#include <khz/reduced/solvers/static_solver.hpp>
+#include <khz/reduced/worker_threads.hpp>
 
 #include <benchmark/benchmark.h>
-#include <omp.h>
+#include <sys/resource.h>
 
 #include <random>
+#include <vector>
 
 namespace {
 
@@ -40,7 +46,7 @@ Eigen::VectorXd deformation(const kr::FemModel& fem) {
 }
 
 void set_up(benchmark::State& state, const kr::FemModel& fem) {
-  omp_set_num_threads(static_cast<int>(state.range(0)));
+  kr::set_worker_threads(static_cast<int>(state.range(0)));
   state.counters["threads"] = static_cast<double>(state.range(0));
   state.counters["elements"] = static_cast<double>(fem.mesh().num_elements());
   state.counters["vertices"] = static_cast<double>(fem.mesh().num_vertices());
@@ -78,6 +84,38 @@ void strain_energy(benchmark::State& state, kr::ElementType type) {
   for (auto _ : state) benchmark::DoNotOptimize(fem.strain_energy(u));
 }
 
+/// A 1 m × 0.1 m × 0.1 m cantilever of 6×6×60 hexahedra (9k dofs), clamped at x = 0 and bent
+/// under a tip load, in two load steps.
+void static_solve(benchmark::State& state) {
+  const kr::ScopedWorkerThreads threads(static_cast<int>(state.range(0)));
+  static const kr::FemModel beam(kr::box_hex_mesh({0, 0, 0}, {1.0, 0.1, 0.1}, {60, 6, 6}),
+                                 {kr::Material::stvk(1e7, 0.3, 1000.0)});
+  std::vector<int> clamped, tip;
+  for (Eigen::Index v = 0; v < beam.mesh().num_vertices(); ++v) {
+    const double x = beam.mesh().vertices(v, 0);
+    if (x < 1e-9) clamped.push_back(static_cast<int>(v));
+    if (x > 1.0 - 1e-9) tip.push_back(static_cast<int>(v));
+  }
+  Eigen::VectorXd load = Eigen::VectorXd::Zero(beam.num_dofs());
+  for (const int v : tip) load[3 * v + 2] = -10.0 / static_cast<double>(tip.size());
+  kr::StaticSolveOptions options;
+  options.load_steps = 2;
+  const auto context_switches = [] {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return static_cast<double>(usage.ru_nvcsw + usage.ru_nivcsw);
+  };
+  const double switches_before = context_switches();
+  for (auto _ : state) {
+    const kr::StaticSolution solution = kr::solve_static(beam, clamped, load, options);
+    benchmark::DoNotOptimize(solution.displacement.data());
+  }
+  state.counters["context_switches"] =
+      benchmark::Counter(context_switches() - switches_before, benchmark::Counter::kAvgIterations);
+  state.counters["threads"] = static_cast<double>(state.range(0));
+  state.counters["dofs"] = static_cast<double>(beam.num_dofs());
+}
+
 constexpr auto tet = kr::ElementType::tetrahedron;
 constexpr auto hex = kr::ElementType::hexahedron;
 
@@ -87,5 +125,6 @@ BENCHMARK_CAPTURE(internal_forces, tets, tet)->Arg(1)->Arg(2)->Unit(benchmark::k
 BENCHMARK_CAPTURE(internal_forces, hexes, hex)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(strain_energy, tets, tet)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(strain_energy, hexes, hex)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(static_solve)->Arg(1)->Arg(2)->Arg(4)->Unit(benchmark::kSecond)->UseRealTime();
 
 }  // namespace

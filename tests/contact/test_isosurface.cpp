@@ -2,7 +2,7 @@
 #include <khz/contact/field/distance_grid.hpp>
 #include <khz/contact/field/isosurface.hpp>
 #include <khz/reduced/mesh/mesh_report.hpp>
-#include <khz/test/openmp_threads.hpp>
+#include <khz/reduced/worker_threads.hpp>
 
 #include <gtest/gtest.h>
 
@@ -266,12 +266,10 @@ TEST(Isosurface, EmptyWhenTheLevelDoesNotCross) {
 
 TEST(Isosurface, OutputDoesNotDependOnTheThreadCount) {
   const DistanceGrid grid = sampled(40, torus);
-  const int threads = test::openmp_max_threads();
-  ASSERT_TRUE(test::set_openmp_threads(1));
+  reduced::ScopedWorkerThreads threads(1);
   const TriangleMesh serial = isosurface(grid, 0.05);
-  test::set_openmp_threads(std::max(threads, 3));
+  reduced::set_worker_threads(3);
   const TriangleMesh parallel = isosurface(grid, 0.05);
-  test::set_openmp_threads(threads);
   EXPECT_EQ(serial.vertices, parallel.vertices);
   EXPECT_EQ(serial.triangles, parallel.triangles);
 }

@@ -4,9 +4,9 @@
 #include <khz/contact/field/mesh_distance_field.hpp>
 #include <khz/reduced/io/mesh_file.hpp>
 #include <khz/reduced/mesh/mesh_repair.hpp>
+#include <khz/reduced/worker_threads.hpp>
 #include <khz/test/fixtures.hpp>
 #include <khz/test/generated_meshes.hpp>
-#include <khz/test/openmp_threads.hpp>
 
 #include "mesh_distance_reference.hpp"
 
@@ -481,17 +481,15 @@ TEST(MeshDistanceField, ThreadCountDoesNotChangeTheResult) {
   const TriangleMesh mesh = star(3.0);
   DistanceFieldOptions options;
   options.cells = 96;
-  const int threads = test::openmp_max_threads();
-  ASSERT_TRUE(test::set_openmp_threads(1));
+  reduced::ScopedWorkerThreads threads(1);
   const DistanceGrid one = signed_distance_field(mesh, options);
   for (const int count : {2, 3}) {
-    test::set_openmp_threads(count);
+    reduced::set_worker_threads(count);
     const DistanceGrid many = signed_distance_field(mesh, options);
     ASSERT_EQ(one.values().size(), many.values().size());
     EXPECT_TRUE(std::equal(one.values().begin(), one.values().end(), many.values().begin()))
         << count << " threads";
   }
-  test::set_openmp_threads(threads);
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 #include <khz/contact/pointshell/nested_levels.hpp>
 #include <khz/contact/pointshell/pointshell_sampling.hpp>
 #include <khz/contact/tree/point_tree.hpp>
+#include <khz/reduced/worker_threads.hpp>
 #include <khz/test/generated_meshes.hpp>
-#include <khz/test/openmp_threads.hpp>
 
 #include <gtest/gtest.h>
 
@@ -227,10 +227,10 @@ TEST(PointTree, GivesEveryPointAParentWhenDistancesOverflow) {
 TEST(PointTree, IsTheSameOnAnyThreadCount) {
   const Pointshell& input = large_sphere();
   const PointTree parallel(input);
-  const int threads = test::openmp_max_threads();
-  ASSERT_TRUE(test::set_openmp_threads(1));
-  const PointTree serial(input);
-  test::set_openmp_threads(threads);
+  const PointTree serial = [&] {
+    const reduced::ScopedWorkerThreads one(1);
+    return PointTree(input);
+  }();
   ASSERT_EQ(parallel.num_nodes(), serial.num_nodes());
   EXPECT_EQ(std::memcmp(parallel.nodes().data(), serial.nodes().data(),
                         sizeof(PointTreeNode) * static_cast<std::size_t>(serial.num_nodes())),

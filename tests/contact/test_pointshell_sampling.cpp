@@ -1,8 +1,8 @@
 #include <khz/contact/field/mesh_distance.hpp>
 #include <khz/contact/pointshell/pointshell.hpp>
 #include <khz/contact/pointshell/pointshell_sampling.hpp>
+#include <khz/reduced/worker_threads.hpp>
 #include <khz/test/generated_meshes.hpp>
-#include <khz/test/openmp_threads.hpp>
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
@@ -159,10 +159,10 @@ TEST(RandomPointshell, IsUniformByArea) {
 TEST(RandomPointshell, IsReproducibleForASeedOnAnyThreadCount) {
   const TriangleMesh sphere = uv_sphere(16, 8);
   const Pointshell a = random_pointshell(sphere, 3000, 11);
-  const int threads = test::openmp_max_threads();
-  ASSERT_TRUE(test::set_openmp_threads(1));
-  const Pointshell b = random_pointshell(sphere, 3000, 11);
-  test::set_openmp_threads(threads);
+  const Pointshell b = [&] {
+    const reduced::ScopedWorkerThreads one(1);
+    return random_pointshell(sphere, 3000, 11);
+  }();
   EXPECT_EQ(a.points, b.points);
   EXPECT_EQ(a.normals, b.normals);
   const Pointshell c = random_pointshell(sphere, 3000, 12);

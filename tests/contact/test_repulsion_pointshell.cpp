@@ -6,9 +6,9 @@
 #include <khz/contact/pointshell/pointshell.hpp>
 #include <khz/contact/pointshell/repulsion_pointshell.hpp>
 #include <khz/reduced/io/mesh_file.hpp>
+#include <khz/reduced/worker_threads.hpp>
 #include <khz/test/data_paths.hpp>
 #include <khz/test/generated_meshes.hpp>
-#include <khz/test/openmp_threads.hpp>
 
 #include <gtest/gtest.h>
 
@@ -185,12 +185,10 @@ TEST(RepulsionPointshell, IsReproducibleForASeedOnAnyThreadCount) {
   options.seed = 3;
   options.tolerance = 5e-3;  // fewer iterations; any run must reproduce
   const Pointshell a = repulsion_pointshell(sphere_field(), 0.0, sphere_surface(), options);
-  const int threads = test::openmp_max_threads();
-  ASSERT_TRUE(test::set_openmp_threads(1));
+  reduced::ScopedWorkerThreads threads(1);
   const Pointshell b = repulsion_pointshell(sphere_field(), 0.0, sphere_surface(), options);
-  test::set_openmp_threads(std::max(threads, 3));
+  reduced::set_worker_threads(3);
   const Pointshell c = repulsion_pointshell(sphere_field(), 0.0, sphere_surface(), options);
-  test::set_openmp_threads(threads);
   EXPECT_EQ(a.points, b.points);
   EXPECT_EQ(a.normals, b.normals);
   EXPECT_EQ(a.points, c.points);

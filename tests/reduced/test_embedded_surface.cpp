@@ -3,11 +3,11 @@
 #include <khz/reduced/meshing/box_mesh.hpp>
 #include <khz/reduced/subspace/embedded_surface.hpp>
 #include <khz/reduced/subspace/vertex_normals.hpp>
+#include <khz/reduced/worker_threads.hpp>
 #include <khz/test/allocation_probe.hpp>
 #include <khz/test/element_types.hpp>
 #include <khz/test/fixtures.hpp>
 #include <khz/test/generated_meshes.hpp>
-#include <khz/test/openmp_threads.hpp>
 
 #include <gtest/gtest.h>
 
@@ -264,18 +264,15 @@ TEST(EmbeddedSurface, ResultsDoNotDependOnTheThreadCount) {
   const EmbeddedSurface surface(embedding, test::uv_sphere(48, 24), basis);
   ASSERT_GE(surface.size() * surface.dimension(), 8192);
 
-  const int default_threads = test::openmp_max_threads();
-  ASSERT_GT(default_threads, 0) << "no OpenMP runtime loaded";
   std::vector<VertexMatrix> positions;
   std::vector<VertexMatrix> normals;
   for (const int threads : {1, 2, 3}) {
-    ASSERT_TRUE(test::set_openmp_threads(threads));
+    const ScopedWorkerThreads count(threads);
     positions.emplace_back(surface.size(), 3);
     normals.emplace_back(surface.size(), 3);
     surface.deformed_positions(q, positions.back());
     surface.deformed_normals(q, normals.back());
   }
-  test::set_openmp_threads(default_threads);
   for (std::size_t run = 1; run < positions.size(); ++run) {
     EXPECT_EQ(positions[run], positions[0]) << "run " << run;
     EXPECT_EQ(normals[run], normals[0]) << "run " << run;

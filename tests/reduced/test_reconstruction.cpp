@@ -1,9 +1,9 @@
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/meshing/box_mesh.hpp>
 #include <khz/reduced/subspace/reconstruction.hpp>
+#include <khz/reduced/worker_threads.hpp>
 #include <khz/test/allocation_probe.hpp>
 #include <khz/test/fixtures.hpp>
-#include <khz/test/openmp_threads.hpp>
 
 #include <gtest/gtest.h>
 
@@ -88,18 +88,15 @@ TEST_P(ReconstructionSizes, PositionsAreRestPlusDisplacement) {
 
 TEST(Reconstruction, ResultsDoNotDependOnTheThreadCount) {
   const Case c = random_case({20, 20, 9}, 30, 9);
-  const int default_threads = test::openmp_max_threads();
-  ASSERT_GT(default_threads, 0) << "no OpenMP runtime loaded";
   std::vector<Eigen::VectorXd> displacements;
   std::vector<VertexMatrix> positions;
   for (const int threads : {1, 2, 3}) {
-    ASSERT_TRUE(test::set_openmp_threads(threads));
+    const ScopedWorkerThreads count(threads);
     displacements.emplace_back(c.basis.rows());
     positions.emplace_back(c.mesh.num_vertices(), 3);
     reconstruct_displacement(c.basis, c.q, displacements.back());
     reconstruct_positions(c.mesh.vertices, c.basis, c.q, positions.back());
   }
-  test::set_openmp_threads(default_threads);
   for (std::size_t run = 1; run < displacements.size(); ++run) {
     EXPECT_EQ(displacements[run], displacements[0]) << "run " << run;
     EXPECT_EQ(positions[run], positions[0]) << "run " << run;

@@ -1,4 +1,5 @@
 #include <khz/contact/field/isosurface.hpp>
+#include <khz/reduced/worker_threads.hpp>
 
 #include "field/isosurface_detail.hpp"
 
@@ -258,7 +259,7 @@ TriangleMesh isosurface(const DistanceGrid& grid, double level,
   // Pass 1: vertices per node layer, so that both vertex and triangle numbering are fixed before
   // the parallel pass and independent of the schedule.
   std::vector<std::int64_t> layer_vertices(static_cast<std::size_t>(n) + 1, 0);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for num_threads(reduced::worker_threads()) schedule(static)
   for (int k = 0; k < n; ++k) {
     layer_vertices[static_cast<std::size_t>(k) + 1] =
         scan_slice(lattice, k, nullptr, 0, nullptr, nullptr);
@@ -286,7 +287,7 @@ TriangleMesh isosurface(const DistanceGrid& grid, double level,
   const int blocks = (n + kLayersPerBlock - 1) / kLayersPerBlock;
   std::vector<std::vector<int>> block_triangles(static_cast<std::size_t>(blocks));
   std::exception_ptr failure;
-#pragma omp parallel for schedule(dynamic)
+#pragma omp parallel for num_threads(reduced::worker_threads()) schedule(dynamic)
   for (int block = 0; block < blocks; ++block) {
     try {
       const int begin = block * kLayersPerBlock;

@@ -1,5 +1,6 @@
 #include <khz/contact/field/mesh_distance_field.hpp>
 #include <khz/reduced/stage_progress.hpp>
+#include <khz/reduced/worker_threads.hpp>
 
 #include <omp.h>
 
@@ -168,7 +169,7 @@ class FieldBuilder {
   std::int64_t band_layer(int layer) {
     const int blocks = block_layers();
     std::int64_t exact = 0;
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : exact) if (m_parallel)
+#pragma omp parallel for num_threads(reduced::worker_threads()) schedule(dynamic, 1) reduction(+ : exact) if (m_parallel)
     for (int b = 0; b < blocks * blocks; ++b) {
       const Eigen::Vector3i lower(b % blocks * block_nodes, b / blocks * block_nodes,
                                   layer * block_nodes);
@@ -200,7 +201,7 @@ class FieldBuilder {
   /// know it.
   void seed_boundary(int first, int end) {
     const int n = m_last + 1;
-#pragma omp parallel for schedule(dynamic, 1) if (m_parallel)
+#pragma omp parallel for num_threads(reduced::worker_threads()) schedule(dynamic, 1) if (m_parallel)
     for (int row = first * n; row < end * n; ++row) {
       const int j = row % n, k = row / n;
       const bool face = j == 0 || j == m_last || k == 0 || k == m_last;
@@ -245,7 +246,7 @@ class FieldBuilder {
       }
       return;
     }
-#pragma omp parallel
+#pragma omp parallel num_threads(reduced::worker_threads())
     {
       // Bands of at least 2·steps rows, so that the gaps of phase 2 never meet.
       const int bands = std::clamp(n / (2 * steps + 2), 1, omp_get_num_threads());
@@ -272,7 +273,7 @@ class FieldBuilder {
   /// Step 3 for a signed field, planes [first, end): records the regions beyond the band.
   void scan_regions(int first, int end) {
     const std::int64_t n = m_last + 1;
-#pragma omp parallel if (m_parallel)
+#pragma omp parallel num_threads(reduced::worker_threads()) if (m_parallel)
     {
       std::vector<std::uint32_t> words(static_cast<std::size_t>(n * n));
 #pragma omp for schedule(dynamic, 1)
@@ -292,7 +293,7 @@ class FieldBuilder {
   void finish_planes(int first, int end, std::vector<float>& values) const {
     const auto triangles = m_bvh.triangles();
     const GridGeometry& g = m_geometry;
-#pragma omp parallel for schedule(static) if (m_parallel)
+#pragma omp parallel for num_threads(reduced::worker_threads()) schedule(static) if (m_parallel)
     for (int k = first; k < end; ++k) {
       for (int j = 0; j <= m_last; ++j) {
         const std::span<const detail::BandRegions::Run> runs =
@@ -453,7 +454,7 @@ DistanceGrid distance_field(const std::string& caller, const TriangleMesh& mesh,
   const GridGeometry geometry = field_geometry(caller, mesh, options);
   const int n = geometry.nodes_per_axis();
   const int sweep_steps =
-      std::clamp(n / (8 * std::max(omp_get_max_threads(), 1)), min_sweep_steps, max_sweep_steps);
+      std::clamp(n / (8 * reduced::worker_threads()), min_sweep_steps, max_sweep_steps);
   const int sweep_units = ceil_div(n - 1, sweep_steps);
   const int plane_units = ceil_div(n, planes_per_unit);
   // Whether a closest point can lie outside the box (then the faces' nodes are seeded).

@@ -2,6 +2,7 @@
 #include <khz/contact/pointshell/pointshell_sampling.hpp>
 
 #include <khz/reduced/stage_progress.hpp>
+#include <khz/reduced/worker_threads.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -34,7 +35,9 @@ PointMatrix inward_normals(const MeshDistance& surface, const Eigen::Ref<const P
   Eigen::Index without_normal = std::numeric_limits<Eigen::Index>::max();
   for (Eigen::Index begin = 0; begin < count; begin += chunk_size) {
     const Eigen::Index end = std::min(count, begin + chunk_size);
-#pragma omp parallel for schedule(dynamic, 64) reduction(min : without_normal)
+#pragma omp parallel for num_threads(reduced::worker_threads()) schedule(dynamic, 64) \
+    reduction(min                                                                     \
+              : without_normal)
     for (Eigen::Index s = begin; s < end; ++s) {
       const Eigen::Vector3d pseudonormal = surface.closest(points.row(s).transpose()).pseudonormal;
       if (!(std::abs(pseudonormal.norm() - 1.0) < 1e-6))

@@ -1,5 +1,6 @@
 #include <khz/contact/pointshell/pointshell_sampling.hpp>
 #include <khz/reduced/mesh/surface_area.hpp>
+#include <khz/reduced/worker_threads.hpp>
 
 #include "pointshell/split_mix.hpp"
 
@@ -38,7 +39,7 @@ Pointshell random_pointshell(const TriangleMesh& mesh, Eigen::Index count, std::
   pointshell.points.resize(count, 3);
   pointshell.normals.resize(count, 3);
   const std::uint64_t key = split_mix(seed);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for num_threads(reduced::worker_threads()) schedule(static)
   for (Eigen::Index k = 0; k < count; ++k) {
     const std::uint64_t counter = key + 3 * static_cast<std::uint64_t>(k);
     // The first triangle whose running sum exceeds the target: zero-area triangles are never

@@ -2,6 +2,8 @@
 
 #include "pointshell/repulsion_hash_grid.hpp"
 
+#include <khz/reduced/worker_threads.hpp>
+
 namespace khz::contact::detail {
 
 namespace {
@@ -39,7 +41,8 @@ void RepulsionNeighbourLists::build(const PointMatrix& points, Eigen::Index firs
   // Two passes, counting then filling, so each list lands at an offset fixed by the ones before
   // it whatever thread computes it.
   m_offsets.assign(static_cast<std::size_t>(count - first) + 1, 0);
-#pragma omp parallel for schedule(dynamic, 64) if (cells > 256)
+#pragma omp parallel for num_threads(reduced::worker_threads()) \
+    schedule(dynamic, 64) if (cells > 256)
   for (std::ptrdiff_t cell = 0; cell < cells; ++cell) {
     pairs_in_cell(
         grid, static_cast<std::size_t>(cell), first, reach_squared,
@@ -48,7 +51,8 @@ void RepulsionNeighbourLists::build(const PointMatrix& points, Eigen::Index firs
   for (std::size_t m = 0; m + 1 < m_offsets.size(); ++m) m_offsets[m + 1] += m_offsets[m];
   m_neighbours.resize(static_cast<std::size_t>(m_offsets.back()));
   std::vector<std::int64_t> next(m_offsets.begin(), m_offsets.end() - 1);
-#pragma omp parallel for schedule(dynamic, 64) if (cells > 256)
+#pragma omp parallel for num_threads(reduced::worker_threads()) \
+    schedule(dynamic, 64) if (cells > 256)
   for (std::ptrdiff_t cell = 0; cell < cells; ++cell) {
     pairs_in_cell(grid, static_cast<std::size_t>(cell), first, reach_squared,
                   [&](Eigen::Index m, std::int32_t j) {

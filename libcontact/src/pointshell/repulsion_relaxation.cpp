@@ -4,6 +4,8 @@
 #include "pointshell/repulsion_neighbour_lists.hpp"
 #include "pointshell/repulsion_projection.hpp"
 
+#include <khz/reduced/worker_threads.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -70,14 +72,16 @@ RelaxationResult relax_level(const DistanceGrid& field, PointMatrix& points, Eig
       drift = 0.0;
     }
     // 1. All forces at the current positions.
-#pragma omp parallel for schedule(dynamic, 256) if (moving > parallel_threshold)
+#pragma omp parallel for num_threads(reduced::worker_threads()) \
+    schedule(dynamic, 256) if (moving > parallel_threshold)
     for (Eigen::Index m = 0; m < moving; ++m) {
       const Eigen::Index self = frozen + m;
       forces[static_cast<std::size_t>(m)] = repulsion_on(
           points, self, lists.of(m), normals[static_cast<std::size_t>(self)], settings.radius);
     }
     // 2. All moves, each projected back onto the level set.
-#pragma omp parallel for schedule(dynamic, 256) if (moving > parallel_threshold)
+#pragma omp parallel for num_threads(reduced::worker_threads()) \
+    schedule(dynamic, 256) if (moving > parallel_threshold)
     for (Eigen::Index m = 0; m < moving; ++m) {
       const auto i = static_cast<std::size_t>(m);
       const Eigen::Index self = frozen + m;

@@ -1,6 +1,7 @@
 #include "pointshell/repulsion_seeding.hpp"
 
 #include <khz/contact/pointshell/pointshell_sampling.hpp>
+#include <khz/reduced/worker_threads.hpp>
 
 #include "pointshell/repulsion_projection.hpp"
 #include "pointshell/split_mix.hpp"
@@ -69,7 +70,8 @@ Eigen::Index seed_level(const DistanceGrid& field, const TriangleMesh& level_set
     const Pointshell samples =
         random_pointshell(level_set, count, split_mix(seed + static_cast<std::uint64_t>(draw)));
     std::vector<char> placed(pending.size(), 0);
-#pragma omp parallel for schedule(dynamic, 256) if (count > parallel_threshold)
+#pragma omp parallel for num_threads(reduced::worker_threads()) \
+    schedule(dynamic, 256) if (count > parallel_threshold)
     for (Eigen::Index k = 0; k < count; ++k) {
       const auto i = static_cast<std::size_t>(k);
       const Eigen::Vector3d sample = samples.points.row(k).transpose();

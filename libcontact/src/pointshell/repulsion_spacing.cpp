@@ -2,6 +2,8 @@
 
 #include "pointshell/repulsion_hash_grid.hpp"
 
+#include <khz/reduced/worker_threads.hpp>
+
 #include <algorithm>
 #include <vector>
 
@@ -13,7 +15,8 @@ NearestNeighbourStatistics nearest_neighbour_statistics(const PointMatrix& point
   if (count < 2) return statistics;
   const RepulsionHashGrid grid(points, count, cell_size);
   std::vector<double> nearest(static_cast<std::size_t>(count));
-#pragma omp parallel for schedule(dynamic, 256) if (count > 2048)
+#pragma omp parallel for num_threads(reduced::worker_threads()) \
+    schedule(dynamic, 256) if (count > 2048)
   for (Eigen::Index s = 0; s < count; ++s) {
     nearest[static_cast<std::size_t>(s)] = grid.nearest_other(s, points.row(s).transpose()).second;
   }

@@ -2,6 +2,7 @@
 #include <khz/reduced/subspace/embedded_surface.hpp>
 
 #include <khz/reduced/stage_progress.hpp>
+#include <khz/reduced/worker_threads.hpp>
 #include "tree/subtree_leaves.hpp"
 
 #include <algorithm>
@@ -116,7 +117,7 @@ void DeformablePointTree::compute_radius_coefficients(const ProgressCallback& pr
   for (int level = 0; level + 1 < m_tree.num_levels(); ++level) {
     const Eigen::Index begin = m_tree.level_begin(level);
     const Eigen::Index end = m_tree.level_end(level);
-#pragma omp parallel for schedule(dynamic, 16)
+#pragma omp parallel for num_threads(reduced::worker_threads()) schedule(dynamic, 16)
     for (Eigen::Index n = begin; n < end; ++n) {
       double* a = m_radius_coefficients.data() + r * n;  // squared norms until the end
       const double* uc = m_displacement_modes.data() + 3 * r * m_tree.node(n).point;

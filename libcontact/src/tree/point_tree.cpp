@@ -1,6 +1,7 @@
 #include <khz/contact/tree/point_tree.hpp>
 
 #include <khz/reduced/stage_progress.hpp>
+#include <khz/reduced/worker_threads.hpp>
 #include "tree/point_kd_tree.hpp"
 #include "tree/subtree_leaves.hpp"
 
@@ -30,7 +31,7 @@ std::vector<std::int32_t> nearest_coarser_points(const Pointshell& pointshell,
     for (Eigen::Index begin = pointshell.level_begin(level); begin < pointshell.level_end(level);
          begin += chunk_size) {
       const Eigen::Index end = std::min(pointshell.level_end(level), begin + chunk_size);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for num_threads(reduced::worker_threads()) schedule(static)
       for (Eigen::Index s = begin; s < end; ++s) {
         nearest[index(s)] =
             static_cast<std::int32_t>(coarser.nearest(pointshell.points.row(s).transpose()));
@@ -112,7 +113,7 @@ PointTree::PointTree(const Pointshell& pointshell, const ProgressCallback& progr
   for (int level = 0; level + 1 < levels; ++level) {
     const auto begin = static_cast<std::int32_t>(level_begin(level));
     const auto end = static_cast<std::int32_t>(level_end(level));
-#pragma omp parallel for schedule(dynamic, 16)
+#pragma omp parallel for num_threads(reduced::worker_threads()) schedule(dynamic, 16)
     for (std::int32_t n = begin; n < end; ++n) {
       PointTreeNode& node = m_nodes[index(n)];
       const Eigen::RowVector3d centre = points.row(node.point);

@@ -1,5 +1,6 @@
 // Linear modal analysis by ARPACK in shift-invert mode (thesis eq. 2.43, §2.8.7).
 #include <khz/reduced/stage_progress.hpp>
+#include "../detail/thread_limited_call.hpp"
 #include "modal_problem.hpp"
 
 #include <khz/reduced/basis/linear_modes.hpp>
@@ -83,8 +84,11 @@ Eigenpairs lowest_eigenpairs(const detail::ModalProblem& problem, int count,
   Eigen::VectorXd mass_times(n);
   int solves = 0;
   for (;;) {
-    dsaupd_c(&ido, "G", n, "LM", count, options.tolerance, resid.data(), ncv, v.data(), n, iparam,
-             ipntr, workd.data(), workl.data(), lworkl, &info);
+    // ARPACK's BLAS calls (OpenBLAS threads) held to worker_threads().
+    detail::thread_limited([&]() noexcept {
+      dsaupd_c(&ido, "G", n, "LM", count, options.tolerance, resid.data(), ncv, v.data(), n, iparam,
+               ipntr, workd.data(), workl.data(), lworkl, &info);
+    });
     if (ido == -1) {
       mass_times.noalias() = problem.mass() * vector_at(ipntr[0]);
       vector_at(ipntr[1]) = shifted.solve(mass_times);
@@ -114,9 +118,11 @@ Eigenpairs lowest_eigenpairs(const detail::ModalProblem& problem, int count,
   result.solves = solves;
   Eigen::VectorXd values(count);
   Eigen::MatrixXd vectors(n, count);
-  dseupd_c(1, "A", select.data(), values.data(), vectors.data(), n, problem.shift(), "G", n, "LM",
-           count, options.tolerance, resid.data(), ncv, v.data(), n, iparam, ipntr, workd.data(),
-           workl.data(), lworkl, &info);
+  detail::thread_limited([&]() noexcept {
+    dseupd_c(1, "A", select.data(), values.data(), vectors.data(), n, problem.shift(), "G", n, "LM",
+             count, options.tolerance, resid.data(), ncv, v.data(), n, iparam, ipntr, workd.data(),
+             workl.data(), lworkl, &info);
+  });
   if (info != 0) throw SolverError("ARPACK dseupd failed with info = " + std::to_string(info));
   progress.finish();
 

@@ -1,5 +1,7 @@
 #include "tall_qr.hpp"
 
+#include "thread_limited_call.hpp"
+
 #include <khz/reduced/errors.hpp>
 
 #include <string>
@@ -44,7 +46,9 @@ TallQr::TallQr(Eigen::MatrixXd matrix) : m_factors(std::move(matrix)) {
   check(info, "dgeqrf");
   const int lwork = static_cast<int>(optimal);
   std::vector<double> work(static_cast<std::size_t>(lwork));
-  dgeqrf_(&m, &n, m_factors.data(), &m, m_tau.data(), work.data(), &lwork, &info);
+  thread_limited([&]() noexcept {  // OpenBLAS's LAPACK runs threads
+    dgeqrf_(&m, &n, m_factors.data(), &m, m_tau.data(), work.data(), &lwork, &info);
+  });
   check(info, "dgeqrf");
 }
 
@@ -67,8 +71,10 @@ void TallQr::apply_q(Eigen::MatrixXd& x) const {
   check(info, "dormqr");
   const int lwork = static_cast<int>(optimal);
   std::vector<double> work(static_cast<std::size_t>(lwork));
-  dormqr_("L", "N", &m, &columns, &k, m_factors.data(), &m, m_tau.data(), x.data(), &m, work.data(),
-          &lwork, &info);
+  thread_limited([&]() noexcept {
+    dormqr_("L", "N", &m, &columns, &k, m_factors.data(), &m, m_tau.data(), x.data(), &m,
+            work.data(), &lwork, &info);
+  });
   check(info, "dormqr");
 }
 

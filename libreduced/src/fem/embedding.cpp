@@ -1,6 +1,7 @@
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/fem/element_shape.hpp>
 #include <khz/reduced/fem/embedding.hpp>
+#include <khz/reduced/worker_threads.hpp>
 
 #include "fem/element_bvh.hpp"
 #include "fem/triangle_closest_point.hpp"
@@ -251,7 +252,7 @@ std::vector<EmbeddedPoint> MeshEmbedding::locate_all(
   }
   std::vector<EmbeddedPoint> embedded(static_cast<std::size_t>(points.rows()));
   const bool tetrahedra = m_data->mesh.element_type == ElementType::tetrahedron;
-#pragma omp parallel for schedule(dynamic, 64)
+#pragma omp parallel for num_threads(worker_threads()) schedule(dynamic, 64)
   for (Eigen::Index p = 0; p < points.rows(); ++p) {
     const Eigen::Vector3d x = points.row(p).transpose();
     embedded[static_cast<std::size_t>(p)] =

@@ -2,6 +2,7 @@
 #include <khz/reduced/fem/element_shape.hpp>
 #include <khz/reduced/fem/fem_model.hpp>
 #include <khz/reduced/mesh/element_quality.hpp>
+#include <khz/reduced/worker_threads.hpp>
 
 #include "fem/element_coloring.hpp"
 #include "fem/element_kernel.hpp"
@@ -171,7 +172,7 @@ struct FemModel::Data {
   template <typename Body>
   void for_each_slot_by_color(const Body& body) const {
     const int colors = coloring.num_colors();
-#pragma omp parallel if (num_slots() >= min_parallel_elements)
+#pragma omp parallel num_threads(worker_threads()) if (num_slots() >= min_parallel_elements)
     for (int c = 0; c < colors; ++c) {
       const int end = coloring.color_offsets[c + 1];
 #pragma omp for schedule(static)
@@ -215,7 +216,7 @@ struct FemModel::Data {
   double strain_energy(const Eigen::VectorXd& u) const {
     const int count = num_slots();
     double energy = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : energy) if (count >= min_parallel_elements)
+#pragma omp parallel for num_threads(worker_threads()) schedule(static) reduction(+ : energy) if (count >= min_parallel_elements)
     for (int slot = 0; slot < count; ++slot) {
       const NodeRows<N> displacements = gather<N>(u, slot);
       const VoigtMatrix& elasticity = material(slot).elasticity();

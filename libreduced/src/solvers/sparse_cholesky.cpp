@@ -1,3 +1,5 @@
+#include "../detail/thread_limited_call.hpp"
+
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/solvers/sparse_cholesky.hpp>
 
@@ -130,7 +132,7 @@ struct SparseCholesky::Data {
     factorized = false;
     size = 0;
     cholmod_sparse a = view(pattern);
-    factor = cholmod_analyze(&a, &common);
+    detail::thread_limited([&]() noexcept { factor = cholmod_analyze(&a, &common); });
     throw_if_failed(common, "analysis");
     size = pattern.rows();
     remember_pattern(pattern);
@@ -148,7 +150,7 @@ struct SparseCholesky::Data {
     }
     factorized = false;
     cholmod_sparse a = view(matrix);
-    cholmod_factorize(&a, factor, &common);
+    detail::thread_limited([&]() noexcept { cholmod_factorize(&a, factor, &common); });
     throw_if_failed(common, "factorization");
     if (common.status == CHOLMOD_NOT_POSDEF) {
       // L->minor is the failing column of the permuted matrix; Perm maps it back.
@@ -186,8 +188,10 @@ struct SparseCholesky::Data {
     rhs.x = const_cast<double*>(b);  // read only, like the sparse views
     rhs.xtype = CHOLMOD_REAL;
     rhs.dtype = CHOLMOD_DOUBLE;
-    cholmod_solve2(system, factor, &rhs, nullptr, &solution, nullptr, &workspace_y, &workspace_e,
-                   &common);
+    detail::thread_limited([&]() noexcept {
+      cholmod_solve2(system, factor, &rhs, nullptr, &solution, nullptr, &workspace_y, &workspace_e,
+                     &common);
+    });
     throw_if_failed(common, "solve");
     return {static_cast<const double*>(solution->x), size, columns};
   }

@@ -1,6 +1,7 @@
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/subspace/embedded_surface.hpp>
 #include <khz/reduced/subspace/vertex_normals.hpp>
+#include <khz/reduced/worker_threads.hpp>
 
 #include "detail/size_check.hpp"
 
@@ -98,7 +99,7 @@ EmbeddedSurface::EmbeddedSurface(const MeshEmbedding& embedding,
   const Eigen::Index r = m_dimension;
   m_displacement_modes.resize(static_cast<std::size_t>(3 * count * r));
   m_normal_modes.resize(static_cast<std::size_t>(3 * count * r));
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for num_threads(worker_threads()) schedule(dynamic, 256)
   for (Eigen::Index s = 0; s < count; ++s) {
     const double length = m_rest_normals.row(s).norm();
     if (length > 0.0) m_rest_normals.row(s) /= length;
@@ -122,7 +123,8 @@ void EmbeddedSurface::deformed_positions(const Eigen::Ref<const Eigen::VectorXd>
   detail::check_size("q", "entries", q.size(), m_dimension, "one per basis column");
   detail::check_size("positions", "rows", positions.rows(), size(), "one per point");
   const Eigen::Index count = size();
-#pragma omp parallel for schedule(static) if (count * m_dimension >= min_parallel_entries)
+#pragma omp parallel for num_threads(worker_threads()) \
+    schedule(static) if (count * m_dimension >= min_parallel_entries)
   for (Eigen::Index s = 0; s < count; ++s) {
     const Eigen::Vector3d p = position(s, q);
     for (int k = 0; k < 3; ++k) positions(s, k) = p[k];
@@ -134,7 +136,8 @@ void EmbeddedSurface::deformed_normals(const Eigen::Ref<const Eigen::VectorXd>& 
   detail::check_size("q", "entries", q.size(), m_dimension, "one per basis column");
   detail::check_size("normals", "rows", normals.rows(), size(), "one per point");
   const Eigen::Index count = size();
-#pragma omp parallel for schedule(static) if (count * m_dimension >= min_parallel_entries)
+#pragma omp parallel for num_threads(worker_threads()) \
+    schedule(static) if (count * m_dimension >= min_parallel_entries)
   for (Eigen::Index s = 0; s < count; ++s) {
     const Eigen::Vector3d n = normal(s, q);
     for (int k = 0; k < 3; ++k) normals(s, k) = n[k];

@@ -1,6 +1,7 @@
 #include "subspace/energy_precompute.hpp"
 
 #include <khz/reduced/stage_progress.hpp>
+#include <khz/reduced/worker_threads.hpp>
 
 #include <Eigen/Dense>
 
@@ -157,14 +158,13 @@ std::vector<std::vector<EnergyPolynomial>> precompute_group_energies(
     const std::vector<Eigen::Index>& elements = group_elements[g];
     const auto blocks = static_cast<Eigen::Index>(
         (static_cast<Eigen::Index>(elements.size()) + elements_per_block - 1) / elements_per_block);
+    const int threads = worker_threads();
     std::vector<ThreadWork> work;
-    for (int t = 0; t < omp_get_max_threads(); ++t) {
-      work.emplace_back(nodes, r, monomials, part_factors[g]);
-    }
+    for (int t = 0; t < threads; ++t) work.emplace_back(nodes, r, monomials, part_factors[g]);
     std::atomic<bool> stop{false};
     std::exception_ptr failure;
 
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(threads)
     for (Eigen::Index block = 0; block < blocks; ++block) {
       if (stop.load(std::memory_order_relaxed)) continue;
       ThreadWork& mine = work[omp_get_thread_num()];

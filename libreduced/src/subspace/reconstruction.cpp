@@ -1,4 +1,5 @@
 #include <khz/reduced/subspace/reconstruction.hpp>
+#include <khz/reduced/worker_threads.hpp>
 
 #include "detail/size_check.hpp"
 
@@ -22,7 +23,8 @@ void add_basis_product(const Eigen::Ref<const Eigen::MatrixXd>& basis,
                        const Eigen::Ref<const Eigen::VectorXd>& q, double* u) {
   const Eigen::Index rows = basis.rows();
   const Eigen::Index chunks = (rows + chunk_rows - 1) / chunk_rows;
-#pragma omp parallel for schedule(static) if (rows * basis.cols() >= min_parallel_entries)
+#pragma omp parallel for num_threads(worker_threads()) \
+    schedule(static) if (rows * basis.cols() >= min_parallel_entries)
   for (Eigen::Index c = 0; c < chunks; ++c) {
     const Eigen::Index begin = c * chunk_rows;
     const Eigen::Index size = std::min(chunk_rows, rows - begin);

@@ -1,0 +1,22 @@
+#pragma once
+// Which of the process's threads ran while some work did, counted from outside through
+// /proc/self/task: how worker_threads() is checked (issue 23 item 4).
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace khz::test {
+
+/// The threads besides the caller that ran while `work` did: those that appeared, and those
+/// whose context-switch count moved (a pool thread woken for work sleeps again after it). Each
+/// as "id (name) state, user + system ticks", for a failure message.
+std::vector<std::string> other_threads_that_ran(const std::function<void()>& work);
+
+/// The lines of other_threads_that_ran(), one per line, for a failure message.
+std::string listed(const std::vector<std::string>& threads);
+
+/// How many CPUs the calling thread may run on (its affinity mask).
+int usable_cores();
+
+}  // namespace khz::test

@@ -1,0 +1,81 @@
+#include <khz/test/threads_that_ran.hpp>
+
+#include <dirent.h>
+#include <sched.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace khz::test {
+namespace {
+
+/// Voluntary plus involuntary context switches of each thread of this process so far.
+std::map<pid_t, long> context_switches() {
+  std::map<pid_t, long> switches;
+  DIR* tasks = opendir("/proc/self/task");
+  if (tasks == nullptr) return switches;
+  while (const dirent* entry = readdir(tasks)) {
+    if (entry->d_name[0] == '.') continue;
+    std::ifstream status(std::string("/proc/self/task/") + entry->d_name + "/status");
+    long total = 0;
+    for (std::string line; std::getline(status, line);) {
+      if (line.find("ctxt_switches:") != std::string::npos) {
+        total += std::strtol(line.c_str() + line.find(':') + 1, nullptr, 10);
+      }
+    }
+    switches[static_cast<pid_t>(std::atoi(entry->d_name))] = total;
+  }
+  closedir(tasks);
+  return switches;
+}
+
+/// "id (name) state, user + system ticks" from the thread's stat line.
+std::string describe(pid_t thread) {
+  std::ifstream stat("/proc/self/task/" + std::to_string(thread) + "/stat");
+  std::string line;
+  std::getline(stat, line);
+  const std::size_t name_end = line.rfind(')');
+  if (name_end == std::string::npos) return std::to_string(thread) + " (ended)";
+  std::istringstream fields(line.substr(name_end + 2));
+  std::string field;
+  std::vector<std::string> after_name;  // state is field 3 of stat(5), utime 14, stime 15
+  while (fields >> field && after_name.size() < 13) after_name.push_back(field);
+  if (after_name.size() < 13) return line;
+  return line.substr(0, name_end + 1) + " " + after_name[0] + ", " + after_name[11] + " + " +
+         after_name[12] + " ticks";
+}
+
+}  // namespace
+
+std::vector<std::string> other_threads_that_ran(const std::function<void()>& work) {
+  const std::map<pid_t, long> before = context_switches();
+  work();
+  const std::map<pid_t, long> after = context_switches();
+  const pid_t self = gettid();
+  std::vector<std::string> ran;
+  for (const auto& [thread, switches] : after) {
+    if (thread == self) continue;
+    const auto earlier = before.find(thread);
+    if (earlier != before.end() && earlier->second == switches) continue;
+    ran.push_back(describe(thread));
+  }
+  return ran;
+}
+
+std::string listed(const std::vector<std::string>& threads) {
+  std::string text;
+  for (const std::string& thread : threads) text += "\n  " + thread;
+  return text;
+}
+
+int usable_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof(set), &set) != 0) return 1;
+  return CPU_COUNT(&set);
+}
+
+}  // namespace khz::test
