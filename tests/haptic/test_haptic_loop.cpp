@@ -2,14 +2,20 @@
 #include <khz/haptic/loop/haptic_loop.hpp>
 #include <khz/haptic/loop/loop_statistics.hpp>
 #include <khz/haptic/loop/triple_buffer.hpp>
+#include <khz/reduced/worker_threads.hpp>
 
 #include <gtest/gtest.h>
+
+#include <dirent.h>
+#include <sched.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -196,6 +202,74 @@ TEST(HapticLoop, RealTimePriorityAndPinningFallBackWithWarnings) {
   EXPECT_GT(loop.statistics().cycles, 5);
   EXPECT_THROW(HapticLoop(LoopOptions{.rate_hz = 0.0}), Error);
   EXPECT_THROW(loop.start(nullptr), Error);
+}
+
+/// The ids of this process's threads.
+std::vector<pid_t> process_threads() {
+  std::vector<pid_t> threads;
+  DIR* tasks = opendir("/proc/self/task");
+  while (const dirent* entry = tasks != nullptr ? readdir(tasks) : nullptr) {
+    if (entry->d_name[0] != '.') threads.push_back(static_cast<pid_t>(std::atoi(entry->d_name)));
+  }
+  if (tasks != nullptr) closedir(tasks);
+  return threads;
+}
+
+/// The CPUs thread `thread` (0: the caller) may run on.
+cpu_set_t affinity(pid_t thread = 0) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  EXPECT_EQ(sched_getaffinity(thread, sizeof(set), &set), 0);
+  return set;
+}
+
+// While a pinned loop runs, no other thread of the process may use its CPU: the threads that
+// existed (the test's, OpenMP's and OpenBLAS's pools) and the threads they start meanwhile, so
+// precomputations run on the other cores and worker_threads() counts only those. Afterwards
+// they have it back; a thread that was started during the loop too.
+TEST(HapticLoop, APinnedLoopKeepsEveryOtherThreadOffItsCpu) {
+  const cpu_set_t all = affinity();
+  if (CPU_COUNT(&all) < 2) GTEST_SKIP() << "one CPU: the loop has to share it";
+  int cpu = CPU_SETSIZE - 1;
+  while (!CPU_ISSET(cpu, &all)) --cpu;
+  reduced::set_worker_threads(0);
+  // Pools of worker threads exist before the loop starts.
+  EXPECT_GT(reduced::worker_threads(), 1);
+  HapticLoop loop(LoopOptions{.cpu = cpu});
+  std::atomic<pid_t> loop_thread{0};
+  loop.start([&](const CycleClock&) { loop_thread = gettid(); });
+  ASSERT_TRUE(loop.warnings().empty()) << loop.warnings().front();
+  while (loop_thread.load() == 0) std::this_thread::yield();
+
+  std::atomic<bool> release{false};
+  std::atomic<pid_t> started_during{0};
+  std::thread worker([&] {
+    started_during = gettid();
+    while (!release.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  });
+  while (started_during.load() == 0) std::this_thread::yield();
+  int others = 0;
+  for (const pid_t thread : process_threads()) {
+    const cpu_set_t mask = affinity(thread);
+    if (thread == loop_thread.load()) {
+      EXPECT_EQ(CPU_COUNT(&mask), 1);
+      EXPECT_TRUE(CPU_ISSET(cpu, &mask));
+      continue;
+    }
+    ++others;
+    EXPECT_FALSE(CPU_ISSET(cpu, &mask)) << "thread " << thread << " may run on CPU " << cpu;
+  }
+  EXPECT_GE(others, 2);  // the test's thread and the one it started, at least
+  EXPECT_EQ(reduced::worker_threads(), CPU_COUNT(&all) - 1);
+  loop.stop();
+
+  const cpu_set_t after = affinity();
+  EXPECT_TRUE(CPU_EQUAL(&after, &all));
+  const cpu_set_t started = affinity(started_during.load());
+  EXPECT_TRUE(CPU_EQUAL(&started, &all));
+  EXPECT_EQ(reduced::worker_threads(), CPU_COUNT(&all));
+  release = true;
+  worker.join();
 }
 
 }  // namespace

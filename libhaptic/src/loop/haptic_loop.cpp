@@ -1,5 +1,7 @@
 #include <khz/haptic/loop/haptic_loop.hpp>
 
+#include "other_threads_off_cpu.hpp"
+
 #include <pthread.h>
 #include <sched.h>
 #include <time.h>
@@ -8,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <future>
+#include <optional>
 #include <string>
 
 namespace khz::haptic {
@@ -85,7 +88,9 @@ LoopStatistics HapticLoop::statistics() noexcept {
 }
 
 void HapticLoop::run(std::promise<void>& ready) noexcept {
-  // Set-up: CPU pin and priority, each a warning when refused.
+  // Set-up: CPU pin and priority, each a warning when refused. A pinned loop has its CPU to
+  // itself: the process's other threads, and the worker threads they start, run elsewhere.
+  std::optional<detail::OtherThreadsOffCpu> others_off;
   if (m_options.cpu >= 0) {
     cpu_set_t set;
     CPU_ZERO(&set);
@@ -95,6 +100,17 @@ void HapticLoop::run(std::promise<void>& ready) noexcept {
       m_warnings.push_back("HapticLoop: could not pin the loop to CPU " +
                            std::to_string(m_options.cpu) + " (" + std::strerror(code) +
                            "); it runs on any CPU");
+    } else {
+      try {
+        others_off.emplace(m_options.cpu);
+        for (const std::string& failure : others_off->failures()) {
+          m_warnings.push_back("HapticLoop: could not keep " + failure + " off CPU " +
+                               std::to_string(m_options.cpu));
+        }
+      } catch (const std::exception& error) {
+        m_warnings.push_back("HapticLoop: could not keep other threads off CPU " +
+                             std::to_string(m_options.cpu) + " (" + error.what() + ")");
+      }
     }
   }
   if (m_options.realtime_priority) {

@@ -26,6 +26,9 @@ struct KHZ_HAPTIC_API LoopOptions {
   bool realtime_priority = false;
   int priority = 80;  ///< SCHED_FIFO priority, 1–99.
   /// Pin the loop's thread to this CPU (≥ 0), or leave it free (−1). A refused pin is a warning.
+  /// While a pinned loop runs, the process's other threads (and the worker threads they start:
+  /// precomputations, OpenMP, OpenBLAS) are kept off its CPU, except a thread that has no other
+  /// (reduced::worker_threads() counts the CPUs left); when it stops they get the CPU back.
   int cpu = -1;
   /// Cycles between two statistics() snapshots (≥ 1): each costs one pass over the timing
   /// histogram (20,000 bins), so every cycle would be wasteful.
