@@ -8,6 +8,7 @@
 #include <khz/reduced/io/mesh_file.hpp>
 #include <khz/reduced/io/reduced_model_file.hpp>
 #include <khz/reduced/stage_progress.hpp>
+#include <khz/reduced/worker_threads.hpp>
 #include <khz/scene/body_mesh.hpp>
 #include <khz/scene/content_key.hpp>
 
@@ -277,6 +278,8 @@ class ObjectPreparer {
 
 PreparedScene prepare_scene(const SceneDescription& scene, ProductCache& cache,
                             const PrepareOptions& options) {
+  std::optional<reduced::ScopedWorkerThreads> threads;
+  if (scene.threads > 0) threads.emplace(scene.threads);
   PreparedScene prepared;
   prepared.description = scene;
   prepared.objects.reserve(scene.objects.size());

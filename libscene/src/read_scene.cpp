@@ -284,9 +284,9 @@ void check_with_library(const Options& options, const Location& at) {
 
 SceneDescription parse(std::string_view text, const ReadContext& context) {
   const Json json = detail::parse_json(text, context.source);
-  const ObjectReader root(
-      json, Location{context.source, {}},
-      {"version", "description", "objects", "haptic", "contact", "coupling", "device", "loop"});
+  const ObjectReader root(json, Location{context.source, {}},
+                          {"version", "description", "objects", "haptic", "contact", "coupling",
+                           "device", "loop", "threads"});
   SceneDescription scene;
   scene.source = context.source;
   scene.base_directory = context.base_directory;
@@ -302,6 +302,7 @@ SceneDescription parse(std::string_view text, const ReadContext& context) {
     if (!description.is_string()) root.at("description").expected("a string", description);
     scene.description = description.get<std::string>();
   }
+  scene.threads = root.integer("threads", scene.threads, detail::at_least(1));
   read_loop(root, scene);
   ReadContext derived = context;
   derived.rate_hz = scene.loop.rate_hz;

@@ -426,6 +426,12 @@ TEST(SceneDescription, EverySettingReachesItsMember) {
   EXPECT_EQ(s.loop.priority, 90);
   EXPECT_EQ(s.loop.cpu, 1);
 
+  // The preparation's threads.
+  Json threaded = minimal_scene();
+  threaded["threads"] = 3;
+  EXPECT_EQ(parse(threaded).threads, 3);
+  EXPECT_EQ(parse(minimal_scene()).threads, 0);
+
   // The node-count mode's own settings.
   Json counted = minimal_scene();
   counted["contact"] = {

@@ -254,6 +254,8 @@ TEST(SceneErrors, NumbersOutOfRange) {
                          "coupling.stiffness",
                          "expected at most device_max_stiffness = 3000 N/m (k_VC bounds the "
                          "stiffness the device renders, thesis §4.7), got 4000"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) { s["threads"] = 0; }), "threads",
+                         "expected an integer ≥ 1, got 0"));
 }
 
 TEST(SceneErrors, ChoicesAndSettingsOfAnotherChoice) {

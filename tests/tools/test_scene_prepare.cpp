@@ -11,6 +11,7 @@
 #include <khz/scene/cache_directory.hpp>
 #include "scene_fixtures.hpp"
 
+#include <khz/reduced/worker_threads.hpp>
 #include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/read_scene.hpp>
 #include <khz/test/fixtures.hpp>
@@ -709,6 +710,27 @@ TEST(ScenePrepare, ADamagedCacheFileIsComputedAgainWithAWarningNeverTrusted) {
     prepare_scene(scene_of(reduced_scene()), cache);
     EXPECT_EQ(cache.computed_count(), 0);
   }
+}
+
+// A scene's "threads" bounds its preparation's threads (reduced::worker_threads(), which the
+// precomputations read: test_reduced_worker_threads counts what runs) and only its preparation.
+TEST(ScenePrepare, TheScenesThreadsHoldDuringItsPreparation) {
+  reduced::set_worker_threads(0);
+  const int before = reduced::worker_threads();
+  Json scene = rigid_scene();
+  scene["threads"] = 1;
+  std::set<int> seen;
+  PrepareOptions options;
+  options.progress = [&](const std::string&, PrepareStep, const reduced::Progress&) {
+    seen.insert(reduced::worker_threads());
+    return true;
+  };
+  prepare(scene, fresh_cache(), options);
+  EXPECT_EQ(seen, std::set<int>{1});
+  EXPECT_EQ(reduced::worker_threads(), before);
+  seen.clear();
+  prepare(rigid_scene(), fresh_cache(), options);
+  EXPECT_EQ(seen, std::set<int>{before});
 }
 
 TEST(ScenePrepare, ProgressNamesObjectAndStepAndCanCancel) {

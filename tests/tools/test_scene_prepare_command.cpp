@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -46,6 +47,23 @@ TEST(KhzPrep, ComputesThenReadsAndSummarizes) {
   ASSERT_EQ(second.exit_code, 0) << second.output;
   EXPECT_TRUE(has_line_with(second, {"wall", "distance_field", "read"}));
   EXPECT_TRUE(has_line_with(second, {"total: ", "(0 computed, 2 read, 1 built)"}));
+}
+
+// KHZ_THREADS bounds the tool's threads (test_reduced_worker_threads counts them); a value that
+// is not a thread count stops it before it does anything, naming the variable.
+TEST(KhzPrep, TakesItsThreadCountFromKhzThreads) {
+  const std::filesystem::path scene = write_scene(test_file("scenes/cube.off"));
+  const std::string arguments =
+      "prep \"" + scene.string() + "\" --cache \"" + scratch_directory("cache").string() + "\"";
+  ASSERT_EQ(setenv("KHZ_THREADS", "1", 1), 0);
+  const KhzRun one = khz(arguments);
+  EXPECT_EQ(one.exit_code, 0) << one.output;
+  ASSERT_EQ(setenv("KHZ_THREADS", "two", 1), 0);
+  const KhzRun bad = khz(arguments);
+  ASSERT_EQ(unsetenv("KHZ_THREADS"), 0);
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_TRUE(has_line_with(bad, {"khz: the environment variable KHZ_THREADS must be a whole "
+                                  "number of threads ≥ 1, got \"two\""}));
 }
 
 TEST(KhzPrep, AFailureExitsNonZeroNamingTheObject) {

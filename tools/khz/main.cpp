@@ -3,6 +3,7 @@
 
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/version.hpp>
+#include <khz/reduced/worker_threads.hpp>
 
 #include <iostream>
 
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
   khz::tool::add_run_command(app);
   khz::tool::add_report_command(app);
   try {
+    khz::reduced::set_worker_threads_from_environment();  // KHZ_THREADS
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
     return app.exit(error);

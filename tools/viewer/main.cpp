@@ -9,6 +9,7 @@
 
 #include <khz/haptic/loop/haptic_loop.hpp>
 #include <khz/haptic/loop/triple_buffer.hpp>
+#include <khz/reduced/worker_threads.hpp>
 #include <khz/render/png_file.hpp>
 #include <khz/run/scene_framing.hpp>
 #include <khz/scene/cache_directory.hpp>
@@ -223,6 +224,7 @@ int main(int argc, char** argv) {
   app.add_option("--height", request.height, "Window height (screen coordinates)")
       ->check(CLI::Range(16, 16384));
   try {
+    khz::reduced::set_worker_threads_from_environment();  // KHZ_THREADS
     app.parse(argc, argv);
     return khz::viewer::view(request);
   } catch (const CLI::ParseError& error) {

@@ -73,6 +73,10 @@ struct SceneDescription {
   /// "loop": haptic::LoopOptions with the same JSON names and defaults (rate_hz,
   /// realtime_priority, priority, cpu); statistics_every is not a key.
   haptic::LoopOptions loop;
+  /// "threads": the most threads the scene's preparation runs at once (its precomputations,
+  /// CHOLMOD and OpenBLAS; reduced::worker_threads()), ≥ 1. 0 (the default, no key): the
+  /// process's setting, which the khz tools take from the environment variable KHZ_THREADS.
+  int threads = 0;
   /// "loop.duration": how long to run (s), ≥ 0. 0 (the default): until the longest trajectory
   /// or operator script ends, or until interrupted for null and hardware devices.
   double duration = 0.0;
