@@ -126,6 +126,10 @@ int main(int argc, char** argv) {
   app.add_flag("--map", map, "Also print each scene's stability map");
   app.add_option("--logs", logs,
                  "Write each scene's steady press as DIR/<scene>_press.csv (cycle log)");
+  bool without_degradation = false;
+  app.add_flag("--without-degradation", without_degradation,
+               "Run every scene with contact.degradation.mode none, to tell what the time budget "
+               "does from what it does not");
   CLI11_PARSE(app, argc, argv);
 
   std::printf("%-26s %8s %8s %8s %10s %7s %7s %7s %8s %8s %10s %10s %10s %10s\n", "scene",
@@ -138,6 +142,9 @@ int main(int argc, char** argv) {
     scene::ProductCache products(cache);
     scene::PreparedScene prepared = scene::prepare_scene(
         scene::read_scene(std::string(KHZ_SCENE_EXAMPLES_DIR) + "/" + name + ".json"), products);
+    if (without_degradation) {
+      prepared.description.contact.degradation.mode = contact::DegradationOptions::Mode::none;
+    }
     const SceneFigures f =
         measure(prepared, logs.empty() ? std::filesystem::path()
                                        : std::filesystem::path(logs) / (name + "_press.csv"));
