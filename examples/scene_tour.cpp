@@ -1,6 +1,7 @@
 // A bundled scene file, prepared through the product cache and run for 1000 haptic cycles in
 // simulated time, with nothing but the installed Kilohertz::scene (docs/SCENES.md, "Running a
 // scene from C++"). Usage: scene_tour [SCENE.json] (default: the bundled alpha puzzle).
+#include <khz/reduced/worker_threads.hpp>
 #include <khz/scene/cache_directory.hpp>
 #include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/read_scene.hpp>
@@ -10,6 +11,9 @@
 #include <string>
 
 int main(int argc, char** argv) {
+  // The preparation's threads, as the khz tools bound them (KHZ_THREADS; a scene's "threads"
+  // overrides it for its preparation).
+  khz::reduced::set_worker_threads_from_environment();
   const khz::scene::SceneDescription scene =
       khz::scene::read_scene(argc > 1 ? argv[1] : KHZ_EXAMPLE_SCENE);
   khz::scene::ProductCache cache(khz::scene::default_cache_directory());

@@ -230,15 +230,13 @@ void read_contact(const ObjectReader& root, SceneDescription& scene) {
     degradation_settings.read(*degradation, d, "mode");
     const std::string mode = in_quotes(detail::name_of(d.mode, detail::degradation_modes));
     if (d.mode != Mode::node_count) {
-      // A time budget abandons a level that overruns instead of predicting it: no cold threshold.
-      degradation->refuse({"warm_threshold", "cold_fraction"},
-                          "mode \"node_count\" (mode is " + mode + ")");
+      degradation->refuse({"warm_threshold"}, "mode \"node_count\" (mode is " + mode + ")");
     }
     if (d.mode != Mode::time_budget) {
       degradation->refuse({"budget_microseconds"}, "mode \"time_budget\" (mode is " + mode + ")");
     }
     if (d.mode == Mode::none) {
-      degradation->refuse({"contact_weight"},
+      degradation->refuse({"cold_fraction", "contact_weight"},
                           "modes \"node_count\" and \"time_budget\" (mode is \"none\")");
     }
     degradation_settings.read(*degradation, d);

@@ -705,7 +705,8 @@ void expect_identical(const ContactResult& a, const ContactResult& b) {
 // the full traversal's, bit for bit); below it the query returns within one clock interval
 // (2 batches of 16 lookups) past the budget, either complete (its last level ended in that
 // interval) or with the levels it completed, bit for bit as max_level would. Rigid and
-// deformable pointshells, several poses, budgets from a fifth of the cost up.
+// deformable pointshells, several poses, budgets from a fifth of the cost up; and the cold
+// threshold.
 TEST(ContactQuery, TimeBudgetCutsExactlyTheQueriesThatDoNotFit) {
   const auto check = [](const auto& tree, const auto& query) {
     const auto run = [&](const ContactOptions& options) {
@@ -724,6 +725,7 @@ TEST(ContactQuery, TimeBudgetCutsExactlyTheQueriesThatDoNotFit) {
       options.degradation.mode = DegradationOptions::Mode::time_budget;
       options.degradation.budget_microseconds = budget;
       options.degradation.clock = &LookupClock::now;
+      options.degradation.cold_fraction = 1.0;  // a new workspace's levels are all cold
       const auto [budgeted, spent] = run(options);
       if (budget > static_cast<double>(cost)) {
         expect_identical(budgeted, full);
@@ -743,6 +745,16 @@ TEST(ContactQuery, TimeBudgetCutsExactlyTheQueriesThatDoNotFit) {
       expect_identical(budgeted, run(fixed).first);
     }
     EXPECT_GE(cut, 2);
+    // With the cold threshold, a level the previous query did not render must fit in that
+    // share of the budget: the level of detail goes finer only with room to spare.
+    ContactOptions cold;
+    cold.degradation.mode = DegradationOptions::Mode::time_budget;
+    cold.degradation.budget_microseconds = static_cast<double>(cost) / 0.9;
+    cold.degradation.clock = &LookupClock::now;
+    cold.degradation.cold_fraction = 0.8;
+    EXPECT_FALSE(run(cold).first.statistics.complete);
+    cold.degradation.cold_fraction = 0.95;
+    expect_identical(run(cold).first, full);
   };
   const PointTree& sphere = fixture().sphere;
   const LookupTimed plane{ground()};

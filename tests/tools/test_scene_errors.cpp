@@ -275,12 +275,6 @@ TEST(SceneErrors, ChoicesAndSettingsOfAnotherChoice) {
                          "contact.degradation.budget_microseconds",
                          "applies only to mode \"time_budget\" (mode is \"none\")"));
   EXPECT_TRUE(fails_with(
-      edited([](Json& s) {
-        s["contact"] = {{"degradation", {{"mode", "time_budget"}, {"cold_fraction", 0.8}}}};
-      }),
-      "contact.degradation.cold_fraction",
-      "applies only to mode \"node_count\" (mode is \"time_budget\")"));
-  EXPECT_TRUE(fails_with(
       edited(
           [](Json& s) {
             s["objects"][1]["model"]["meshing"] = {{"method", "tetrahedra"}, {"resolution", 32}};

@@ -33,8 +33,9 @@ enum class ContactGradient {
 ///
 /// time_budget mode does not predict: it enters the next level while time is left, reads the
 /// clock every 32 nodes of it, and abandons the level the moment the query has run longer than
-/// the budget, returning the levels before it. So it never cuts a query that fits its budget,
-/// and one that does not fit overruns it by at most one clock interval (a few µs).
+/// the budget (warm levels) or cold_fraction of it (deeper levels), returning the levels before
+/// it. So it never cuts a query that fits its budget at the previous query's level of detail,
+/// goes finer only with room to spare, and overruns by at most one clock interval (a few µs).
 ///
 /// A contact floor overrides both: when the previous query had points in contact, every level
 /// but its deepest is rendered again whatever the cost, and its deepest too while it fits
@@ -49,7 +50,8 @@ struct KHZ_CONTACT_API DegradationOptions {
     none,        ///< Every level, as deep as contact reaches.
     node_count,  ///< Thresholds in cost units: warm_threshold (V_W of §3.10.3).
     /// A budget in time, budget_microseconds per query: each level is rendered if the query
-    /// completes it within the budget, and abandoned when it cannot (the contact floor aside).
+    /// completes it within the budget (cold_fraction of it for a level deeper than the previous
+    /// query's), and abandoned when it cannot (the contact floor aside).
     time_budget,
   };
   Mode mode = Mode::none;
@@ -57,7 +59,8 @@ struct KHZ_CONTACT_API DegradationOptions {
   double warm_threshold = 2500.0;
   /// µs per query; time_budget mode, > 0.
   double budget_microseconds = 250.0;
-  /// V_C / V_W, in (0, 1]; node_count mode (the thesis uses 0.8).
+  /// V_C / V_W, in (0, 1] (the thesis uses 0.8); in time_budget mode the fraction of the
+  /// budget a level deeper than the previous query's must fit in.
   double cold_fraction = 0.8;
   /// β/α of eq. 3.13: the extra cost of a point in contact (normal, force, gradients, reduced
   /// force) in units of a traversed node, ≥ 0; the thesis suggests up to 1.5, and counts

@@ -34,7 +34,7 @@ int tree_levels(const scene::PreparedScene& prepared) noexcept;
 /// The settings `khz report` compares, all derived from the scene's contact options with
 /// temporal coherence off (it changes cost, never the result): first the reference, every
 /// level and no degradation; then each fixed level 0 … levels − 2; then time budgets of 50,
-/// 100 and 250 µs (with the scene's contact weight).
+/// 100 and 250 µs (with the scene's cold fraction and contact weight).
 /// @param levels the pointshell trees' level count (the largest over the scene's pointshells).
 std::vector<SweepSetting> default_sweep(const contact::ContactOptions& scene_options, int levels);
 

@@ -239,10 +239,13 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
     return traversed + queued + degradation.contact_weight * (contacts + contact_share * queued);
   };
 
-  // time_budget: a level the budget may cut is abandoned as soon as the clock passes the budget,
-  // and the query returns what the levels before it found, exactly as if it had stopped there:
-  // so it never cuts a query that fits, and overruns by at most one clock interval.
+  // time_budget: a level the budget may cut is abandoned as soon as the clock passes its limit
+  // (the budget, or cold_fraction of it for a level the previous query did not render), and the
+  // query returns what the levels before it found, exactly as if it had stopped there: so it
+  // never cuts a query that fits at its level of detail, and overruns by at most one clock
+  // interval.
   const double budget_seconds = degradation.budget_microseconds * 1e-6;
+  double abandon_after = budget_seconds;
   bool abandonable = false;
   ContactSums kept_sums;
   std::int64_t kept_points_in_contact = 0;
@@ -268,7 +271,7 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
     bool abandoned = false;
     for (Eigen::Index begin = 0; begin < current_count; begin += batch) {
       if (abandonable && (begin / batch) % batches_per_clock_reading == 1 &&
-          now() - start > budget_seconds) {
+          now() - start > abandon_after) {
         abandoned = true;
         break;
       }
@@ -407,13 +410,15 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
       };
       bool render = level + 1 < ws.m_contact_floor;
       abandonable = false;
+      // A level deeper than the previous query's gets the cold threshold: the level of detail
+      // goes finer only with room to spare, so it does not flicker.
+      const double limit_fraction = level + 1 <= ws.m_warm_level ? 1.0 : degradation.cold_fraction;
       if (!render && degradation.mode == DegradationOptions::Mode::node_count) {
-        const double limit_fraction =
-            level + 1 <= ws.m_warm_level ? 1.0 : degradation.cold_fraction;
         render = predicted_units() <= limit_fraction * degradation.warm_threshold;
       } else if (!render) {
         render = floor_level && ws.fits_at_typical_speed(predicted_units(), budget_seconds);
-        if (!render && now() - start < budget_seconds) render = abandonable = true;
+        abandon_after = limit_fraction * budget_seconds;
+        if (!render && now() - start < abandon_after) render = abandonable = true;
       }
       if (!render) {
         stats.complete = false;
