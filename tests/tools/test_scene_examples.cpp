@@ -12,6 +12,7 @@
 #include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/read_scene.hpp>
 #include <khz/test/fixtures.hpp>
+#include <khz/test/sanitizers.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -205,15 +206,21 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
 // most 5 % of their peaks at the 99th percentile, no point deeper than a voxel, and a steady
 // press — the scene's devices held still from the cycle of the largest contact force
 // (run::HeldStillDevice) — in which, once the hands have been still for 0.3 s, the simulation
-// moves by at most 1 µm and turns by at most 1e-4 rad per cycle.
+// moves by at most 1 µm and turns by at most 1e-4 rad per cycle. Under AddressSanitizer the
+// queries run about ten times slower, so a scene's time budget would render coarser levels than
+// any real run of it (the deformable scene's coarse level then runs away: docs/HAPTICS.md); there
+// the scenes run without degradation, and the Release pass checks them with their budgets.
 TEST_P(SmallExample, IsSmoothKeepsOutAndSettlesInASteadyPress) {
   const std::filesystem::path file =
       std::filesystem::path(KHZ_SCENE_EXAMPLES_DIR) / (GetParam() + ".json");
   std::ifstream stream(file);
   SceneReadOptions options;
   options.base_directory = KHZ_SCENE_EXAMPLES_DIR;
-  const SceneDescription description =
+  SceneDescription description =
       parse_scene(small(nlohmann::json::parse(stream)).dump(), file.string(), options);
+  if constexpr (test::sanitized_build) {
+    description.contact.degradation.mode = contact::DegradationOptions::Mode::none;
+  }
   ProductCache cache(test::scratch_directory("cache"));
   const PreparedScene prepared = prepare_scene(description, cache);
 
