@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <limits>
 #include <string>
 #include <vector>
@@ -92,6 +93,9 @@ TEST(ForceLoad, RejectsMalformedLinesWithFileAndLine) {
       {"load,vertex,fx,fy,fz\n1,1,2,3,4\n",
        "loads.csv:2: load id 1 is out of sequence: expected 0 (ids count up from 0 and the rows "
        "of a load are consecutive)"},
+      // The first load's id is 0, not −1 (found by fuzz_loads: it read an empty load list).
+      {"load,vertex,fx,fy,fz\n-1,1,0,0,-1\n",
+       "loads.csv:2: load id -1 is out of sequence: expected 0"},
       {"load,vertex,fx,fy,fz\n0,1,2,3,4\n\n2,1,2,3,4\n",
        "loads.csv:4: load id 2 is out of sequence: expected 0 or 1"},
       {"load,vertex,fx,fy,fz\n0,1,0,0,1\n1,1,0,0,1\n0,2,0,0,1\n",
@@ -118,6 +122,17 @@ TEST(ForceLoad, RejectsMalformedLinesWithFileAndLine) {
     EXPECT_TRUE(test::throws_with_message<ParseError>(
         [&] { parse_force_loads(c.text, "loads.csv", num_vertices); }, c.message));
   }
+}
+
+// The committed malformed corpus, which the fuzz run reads too.
+TEST(ForceLoad, RejectsTheMalformedCorpus) {
+  const std::array<test::MalformedFile, 1> cases{{
+      {"first_id_minus_one.csv",
+       "first_id_minus_one.csv:2: load id -1 is out of sequence: expected 0"},
+  }};
+  test::expect_corpus_rejected("malformed/loads", cases, [](const std::filesystem::path& file) {
+    read_force_loads(file, num_vertices);
+  });
 }
 
 TEST(ForceLoad, ParseErrorCarriesTheLine) {

@@ -177,7 +177,8 @@ std::vector<ForceLoad> parse_force_loads(std::string_view data, const std::strin
     }
     const std::int64_t id = integer_field(scanner, fields[0], "a load id");
     const auto current = static_cast<std::int64_t>(loads.size()) - 1;
-    if (id != current && id != current + 1) {
+    // The current load's id (once there is one) or the next.
+    if (!(id == current + 1 || (id == current && !loads.empty()))) {
       scanner.fail("load id " + std::to_string(id) + " is out of sequence: expected " +
                    (current < 0 ? std::string("0")
                                 : std::to_string(current) + " or " + std::to_string(current + 1)) +
