@@ -30,21 +30,18 @@ void field_pointshell_and_tree() {
   ASSERT_EQ(tree.num_points(), 64 * (1 + 4 + 16 + 64));
 }
 
-std::vector<std::string> steady_threads() {
-  field_pointshell_and_tree();
-  return test::other_threads_that_ran(field_pointshell_and_tree);
-}
-
 TEST(PrecomputeThreads, OneThreadMeansNoOtherThreadRuns) {
   const reduced::ScopedWorkerThreads one(1);
-  const std::vector<std::string> ran = steady_threads();
+  const std::vector<std::string> ran =
+      test::other_threads_in_a_second_run(field_pointshell_and_tree);
   EXPECT_TRUE(ran.empty()) << test::listed(ran);
 }
 
 TEST(PrecomputeThreads, TwoThreadsMeanOneOther) {
   if (test::usable_cores() < 2) GTEST_SKIP() << "one core: nothing to share";
   const reduced::ScopedWorkerThreads two(2);
-  const std::vector<std::string> ran = steady_threads();
+  const std::vector<std::string> ran =
+      test::other_threads_in_a_second_run(field_pointshell_and_tree);
   EXPECT_EQ(ran.size(), 1U) << test::listed(ran);
 }
 

@@ -3,10 +3,10 @@
 #include <khz/haptic/loop/loop_statistics.hpp>
 #include <khz/haptic/loop/triple_buffer.hpp>
 #include <khz/reduced/worker_threads.hpp>
+#include <khz/test/threads_that_ran.hpp>
 
 #include <gtest/gtest.h>
 
-#include <dirent.h>
 #include <sched.h>
 #include <unistd.h>
 
@@ -15,7 +15,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -204,17 +203,6 @@ TEST(HapticLoop, RealTimePriorityAndPinningFallBackWithWarnings) {
   EXPECT_THROW(loop.start(nullptr), Error);
 }
 
-/// The ids of this process's threads.
-std::vector<pid_t> process_threads() {
-  std::vector<pid_t> threads;
-  DIR* tasks = opendir("/proc/self/task");
-  while (const dirent* entry = tasks != nullptr ? readdir(tasks) : nullptr) {
-    if (entry->d_name[0] != '.') threads.push_back(static_cast<pid_t>(std::atoi(entry->d_name)));
-  }
-  if (tasks != nullptr) closedir(tasks);
-  return threads;
-}
-
 /// The CPUs thread `thread` (0: the caller) may run on.
 cpu_set_t affinity(pid_t thread = 0) {
   cpu_set_t set;
@@ -249,7 +237,7 @@ TEST(HapticLoop, APinnedLoopKeepsEveryOtherThreadOffItsCpu) {
   });
   while (started_during.load() == 0) std::this_thread::yield();
   int others = 0;
-  for (const pid_t thread : process_threads()) {
+  for (const pid_t thread : test::process_threads()) {
     const cpu_set_t mask = affinity(thread);
     if (thread == loop_thread.load()) {
       EXPECT_EQ(CPU_COUNT(&mask), 1);

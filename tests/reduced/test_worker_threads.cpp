@@ -51,19 +51,13 @@ void modal_derivative_basis_build() {
   ASSERT_EQ(basis.size(), 15);
 }
 
-/// The threads besides the caller that ran the second time `work` ran.
-std::vector<std::string> steady_threads(void (*work)()) {
-  work();
-  return test::other_threads_that_ran(work);
-}
-
 TEST(WorkerThreads, OneThreadMeansNoOtherThreadRuns) {
   const ScopedWorkerThreads one(1);
   EXPECT_EQ(worker_threads(), 1);
   using Work = std::pair<const char*, void (*)()>;
   for (const auto& [name, work] :
        {Work{"solve", nonlinear_static_solve}, Work{"basis", modal_derivative_basis_build}}) {
-    const std::vector<std::string> ran = steady_threads(work);
+    const std::vector<std::string> ran = test::other_threads_in_a_second_run(work);
     EXPECT_TRUE(ran.empty()) << name << test::listed(ran);
   }
 }
@@ -73,7 +67,7 @@ TEST(WorkerThreads, OneThreadMeansNoOtherThreadRuns) {
 TEST(WorkerThreads, NThreadsBoundEachPool) {
   if (test::usable_cores() < 2) GTEST_SKIP() << "one core: nothing to share";
   const ScopedWorkerThreads two(2);
-  const std::vector<std::string> ran = steady_threads(nonlinear_static_solve);
+  const std::vector<std::string> ran = test::other_threads_in_a_second_run(nonlinear_static_solve);
   EXPECT_GE(ran.size(), 1U) << "the solve ran in parallel";
   EXPECT_LE(ran.size(), 2U) << test::listed(ran);
 }
@@ -83,7 +77,7 @@ TEST(WorkerThreads, TheDefaultIsTheCoresTheCallerMayUse) {
   set_worker_threads(0);
   const int cores = test::usable_cores();
   EXPECT_EQ(worker_threads(), cores);
-  const std::vector<std::string> ran = steady_threads(nonlinear_static_solve);
+  const std::vector<std::string> ran = test::other_threads_in_a_second_run(nonlinear_static_solve);
   EXPECT_LE(ran.size(), 2U * static_cast<std::size_t>(cores - 1)) << test::listed(ran);
 
   // A thread kept off a core (as a pinned haptic loop keeps the others) counts one fewer.

@@ -15,20 +15,16 @@ namespace {
 /// Voluntary plus involuntary context switches of each thread of this process so far.
 std::map<pid_t, long> context_switches() {
   std::map<pid_t, long> switches;
-  DIR* tasks = opendir("/proc/self/task");
-  if (tasks == nullptr) return switches;
-  while (const dirent* entry = readdir(tasks)) {
-    if (entry->d_name[0] == '.') continue;
-    std::ifstream status(std::string("/proc/self/task/") + entry->d_name + "/status");
+  for (const pid_t thread : process_threads()) {
+    std::ifstream status("/proc/self/task/" + std::to_string(thread) + "/status");
     long total = 0;
     for (std::string line; std::getline(status, line);) {
       if (line.find("ctxt_switches:") != std::string::npos) {
         total += std::strtol(line.c_str() + line.find(':') + 1, nullptr, 10);
       }
     }
-    switches[static_cast<pid_t>(std::atoi(entry->d_name))] = total;
+    switches[thread] = total;
   }
-  closedir(tasks);
   return switches;
 }
 
@@ -49,6 +45,22 @@ std::string describe(pid_t thread) {
 }
 
 }  // namespace
+
+std::vector<pid_t> process_threads() {
+  std::vector<pid_t> threads;
+  DIR* tasks = opendir("/proc/self/task");
+  if (tasks == nullptr) return threads;
+  while (const dirent* entry = readdir(tasks)) {
+    if (entry->d_name[0] != '.') threads.push_back(static_cast<pid_t>(std::atoi(entry->d_name)));
+  }
+  closedir(tasks);
+  return threads;
+}
+
+std::vector<std::string> other_threads_in_a_second_run(const std::function<void()>& work) {
+  work();
+  return other_threads_that_ran(work);
+}
 
 std::vector<std::string> other_threads_that_ran(const std::function<void()>& work) {
   const std::map<pid_t, long> before = context_switches();

@@ -2,6 +2,8 @@
 // Which of the process's threads ran while some work did, counted from outside through
 // /proc/self/task: how worker_threads() is checked (issue 23 item 4).
 
+#include <sys/types.h>
+
 #include <functional>
 #include <string>
 #include <vector>
@@ -12,6 +14,13 @@ namespace khz::test {
 /// whose context-switch count moved (a pool thread woken for work sleeps again after it). Each
 /// as "id (name) state, user + system ticks", for a failure message.
 std::vector<std::string> other_threads_that_ran(const std::function<void()>& work);
+
+/// other_threads_that_ran() on the second of two runs of `work`: a change of thread setting
+/// wakes a pool thread or two once, to resize its team, without work.
+std::vector<std::string> other_threads_in_a_second_run(const std::function<void()>& work);
+
+/// The ids of this process's threads (/proc/self/task); empty if it cannot be read.
+std::vector<pid_t> process_threads();
 
 /// The lines of other_threads_that_ran(), one per line, for a failure message.
 std::string listed(const std::vector<std::string>& threads);
