@@ -21,9 +21,10 @@
 // Each run plays its trajectory three times (the first to warm caches; reset() before each),
 // and reports per query: µs (mean, p50, p99, max), nodes traversed and skipped, points in
 // contact, the deepest level and ns per traversed node (total time / total nodes), with and
-// without temporal coherence (§3.10.2, bounds measured from the trajectory). The tables at the
-// end collect every run. Precomputes are cached in KHZ_CONTACT_CACHE_DIR (first run: minutes;
-// later runs: seconds).
+// without temporal coherence (§3.10.2, bounds measured from the trajectory), and with Coulomb
+// friction (FrictionOptions; its cost per query and per point in contact against none). The tables
+// at the end collect every run. Precomputes are cached in KHZ_CONTACT_CACHE_DIR (first run:
+// minutes; later runs: seconds).
 //
 // Scene<Tree, Field> and run_scene() take any DistanceField; a scene's `prepare` deforms a
 // deformable field object before each query.
@@ -458,6 +459,15 @@ kc::ContactOptions full_traversal(bool coherent, const kc::CoherenceOptions& bou
   return options;
 }
 
+/// The friction the "full, friction" runs add (FrictionOptions): μ_s 0.5, μ_k 0.4, so points
+/// both stick and slide along the recorded slides.
+kc::ContactOptions with_friction() {
+  kc::ContactOptions options;
+  options.friction.static_coefficient = 0.5;
+  options.friction.kinetic_coefficient = 0.4;
+  return options;
+}
+
 void report(benchmark::State& state, const RunSummary& s) {
   state.SetIterationTime(1e-6 * s.us_mean);
   state.counters["points"] = static_cast<double>(s.points);
@@ -490,6 +500,18 @@ void register_runs(const std::string& prefix, SceneGetter get, bool with_budgets
         ->UseManualTime()
         ->Unit(benchmark::kMicrosecond);
   }
+  benchmark::RegisterBenchmark(
+      (prefix + "/full/friction").c_str(),
+      [get](benchmark::State& state) {
+        const auto& scene = get();
+        for (auto _ : state) {
+          summaries().push_back(run_scene(scene, with_friction(), "full, friction"));
+          report(state, summaries().back());
+        }
+      })
+      ->Iterations(1)
+      ->UseManualTime()
+      ->Unit(benchmark::kMicrosecond);
   if (!with_budgets) return;
   for (const double budget : {100.0, 250.0}) {
     const std::string variant = "budget " + std::to_string(static_cast<int>(budget)) + " µs";
@@ -600,6 +622,22 @@ void print_tables() {
       }
       std::printf("  %-29s %d of %zu queries, largest relative difference %.2e\n",
                   with.scene.c_str(), differing, with.forces.size(), worst);
+    }
+  }
+  std::printf(
+      "\nFriction (μ_s 0.5, μ_k 0.4) against none, same poses: per query, and per point in "
+      "contact\n");
+  for (const RunSummary& with : summaries()) {
+    if (with.variant != "full, friction") continue;
+    for (const RunSummary& without : summaries()) {
+      if (without.scene != with.scene || without.variant != "full") continue;
+      const double extra_ns = 1e3 * (with.us_mean - without.us_mean);
+      std::printf(
+          "  %-29s mean %7.1f / %7.1f us = %5.3f, p99 %7.1f / %7.1f us = %5.3f; %+6.1f ns per "
+          "point in contact (%.0f points)\n",
+          with.scene.c_str(), with.us_mean, without.us_mean, with.us_mean / without.us_mean,
+          with.us_p99, without.us_p99, with.us_p99 / without.us_p99,
+          with.contacts_mean > 0.0 ? extra_ns / with.contacts_mean : 0.0, with.contacts_mean);
     }
   }
   std::printf(

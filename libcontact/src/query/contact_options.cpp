@@ -6,7 +6,7 @@
 namespace khz::contact {
 namespace {
 
-void require(bool valid, const std::string& name, double value, const char* expected) {
+void require(bool valid, const std::string& name, double value, const std::string& expected) {
   if (!valid) {
     throw Error("ContactOptions: " + name + " must be " + expected + ", got " +
                 std::to_string(value));
@@ -42,6 +42,16 @@ void ContactOptions::validate() const {
           c.max_field_deformation, "finite and ≥ 0 (m)");
   require(c.max_skip >= 1 && c.max_skip <= (1 << 20), "coherence.max_skip", c.max_skip,
           "in [1, 2^20]");
+  const FrictionOptions& f = friction;
+  require(finite_non_negative(f.static_coefficient), "friction.static_coefficient",
+          f.static_coefficient, "finite and ≥ 0");
+  require(
+      finite_non_negative(f.kinetic_coefficient) && f.kinetic_coefficient <= f.static_coefficient,
+      "friction.kinetic_coefficient", f.kinetic_coefficient,
+      ("finite, ≥ 0 and at most friction.static_coefficient (" +
+       std::to_string(f.static_coefficient) + ")"));
+  require(finite_positive(f.stiffness_ratio), "friction.stiffness_ratio", f.stiffness_ratio,
+          "finite and > 0");
 }
 
 }  // namespace khz::contact

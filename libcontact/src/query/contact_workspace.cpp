@@ -47,6 +47,7 @@ ContactWorkspace::ContactWorkspace(const PointTree& tree, const ContactOptions& 
       m_tree_identity(&tree),
       m_nodes(tree.num_nodes()),
       m_points(tree.num_points()),
+      m_levels(tree.num_levels()),
       m_pointshell_dimension(pointshell_dimension),
       m_field_dimension(field_dimension) {
   options.validate();
@@ -74,13 +75,42 @@ ContactWorkspace::ContactWorkspace(const PointTree& tree, const ContactOptions& 
   if (points.rows() > 0) {
     m_rest_reach = (points.rowwise() - m_reference_point.transpose()).rowwise().norm().maxCoeff();
   }
+  size_friction();
   reset();
 }
 
 void ContactWorkspace::set_options(const ContactOptions& options) {
   options.validate();
   m_options = options;
+  size_friction();
   reset();
+}
+
+void ContactWorkspace::size_friction() {
+  if (!m_options.friction.enabled()) {
+    m_anchors = {};
+    m_level_rendered = {};
+    return;
+  }
+  m_anchors.resize(static_cast<std::size_t>(m_points));
+  m_level_rendered.resize(static_cast<std::size_t>(m_levels));
+}
+
+FrictionState ContactWorkspace::friction_state(Eigen::Index point) const noexcept {
+  if (point < 0 || static_cast<std::size_t>(point) >= m_anchors.size()) return FrictionState::none;
+  const detail::FrictionAnchor& anchor = m_anchors[static_cast<std::size_t>(point)];
+  return anchor.query != 0 && anchor.query == m_friction_query ? anchor.state : FrictionState::none;
+}
+
+void ContactWorkspace::begin_friction() noexcept {
+  // Near the count's end, start over: every anchor is dropped once in 2³² queries (50 days at
+  // 1 kHz).
+  if (m_friction_query == std::numeric_limits<std::uint32_t>::max()) {
+    std::fill(m_anchors.begin(), m_anchors.end(), detail::FrictionAnchor{});
+    std::fill(m_level_rendered.begin(), m_level_rendered.end(), 0U);
+    m_friction_query = 0;
+  }
+  ++m_friction_query;
 }
 
 void ContactWorkspace::set_area_weights(std::vector<double> weights) {
@@ -106,6 +136,9 @@ void ContactWorkspace::reset() noexcept {
   m_warm_level = -1;
   m_contact_floor = -1;
   m_typical_seconds_per_unit = 0.0;
+  std::fill(m_anchors.begin(), m_anchors.end(), detail::FrictionAnchor{});
+  std::fill(m_level_rendered.begin(), m_level_rendered.end(), 0U);
+  m_friction_query = 0;
 }
 
 bool ContactWorkspace::begin_coherence(const Eigen::Matrix3d& rotation,

@@ -9,6 +9,7 @@ void ContactStatistics::accumulate(const ContactStatistics& other) noexcept {
   nodes_skipped += other.nodes_skipped;
   coherence_reset = coherence_reset || other.coherence_reset;
   points_in_contact += other.points_in_contact;
+  points_sliding += other.points_sliding;
   deepest_level = std::max(deepest_level, other.deepest_level);
   deepest_penetration = std::max(deepest_penetration, other.deepest_penetration);
   complete = complete && other.complete;

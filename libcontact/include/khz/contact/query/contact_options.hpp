@@ -107,6 +107,54 @@ struct KHZ_CONTACT_API CoherenceOptions {
   int max_skip = 4096;
 };
 
+/// Coulomb friction on the distributed contact (beyond the thesis, which names friction as its
+/// open problem, §5; issue 20). Each point in contact holds a tangential anchor, the spot of the
+/// field object where it stuck (Hayward and Armstrong's adhesion-point model of friction for
+/// haptic rendering, applied per point): the point is pulled back to it by a spring of
+/// stiffness k_t = stiffness_ratio · w k_C in the tangent plane (normal N), and when that pull
+/// would exceed μ |f_n| (f_n = w k_C d N, the point's normal force) the point slides: the pull
+/// is held at μ_k |f_n| and the anchor is dragged along to that distance behind it. A sliding
+/// point uses μ_k, a stuck one μ_s, to decide (so μ_s > μ_k gives stick–slip). The model is a
+/// spring with no velocity, so it holds a load at rest without drift, needs no rate-dependent
+/// tuning, and its force and all four gradients are exact derivatives (ContactResult says of
+/// what); it only dissipates: a stuck point returns what it stored, a sliding one loses it.
+///
+/// Anchors live in the workspace (no allocation per query) and are kept per point of the
+/// pointshell, in the field object's body frame:
+/// - a point entering contact anchors where it is: no tangential force in that query;
+/// - a point looked at and in contact keeps (stick) or drags (slip) its anchor;
+/// - a point of a level the query rendered but found out of contact (looked at with d ≥ 0, or
+///   in a culled subtree, or skipped by temporal coherence, which skips only points apart from
+///   the surface) loses its anchor;
+/// - a point of a level graceful degradation did not render keeps its anchor until a query
+///   renders that level again, and then continues from it (stick or slip);
+/// - ContactWorkspace::reset() and set_options() drop every anchor.
+/// Against a deformed field (§3.12) the anchor is fixed in the field's body frame, not to the
+/// material: a field that deforms moves its surface under the anchors.
+struct KHZ_CONTACT_API FrictionOptions {
+  /// μ_s ≥ 0: a stuck point slides once its tangential pull exceeds μ_s |f_n|. 0 (the default)
+  /// turns friction off: no anchors are kept and the query is the thesis's.
+  double static_coefficient = 0.0;
+  /// μ_k in [0, μ_s]: the pull of a sliding point, μ_k |f_n|, and the limit under which it
+  /// sticks again.
+  double kinetic_coefficient = 0.0;
+  /// k_t / k_C > 0: the anchor spring's stiffness per point, relative to the contact stiffness
+  /// (1: a stuck point is as stiff sideways as into the surface, so the L/ℓ bound on stiffness,
+  /// §3.5, holds for friction too).
+  double stiffness_ratio = 1.0;
+
+  /// Whether friction is on (μ_s > 0).
+  bool enabled() const noexcept { return static_coefficient > 0.0; }
+};
+
+/// What friction did at a point in the last query (FrictionOptions).
+enum class FrictionState {
+  none,      ///< Not in contact in the last query, or friction off.
+  anchored,  ///< Entered contact: anchored where it is, no tangential force yet.
+  stuck,     ///< Held by its anchor: the pull is within the friction cone.
+  sliding,   ///< Slid: pulled by μ_k |f_n|, its anchor dragged along.
+};
+
 /// The whole configuration of a contact query.
 struct KHZ_CONTACT_API ContactOptions {
   /// k_C (N/m) of eq. 3.1, > 0.
@@ -122,6 +170,7 @@ struct KHZ_CONTACT_API ContactOptions {
   ContactGradient gradient = ContactGradient::field_gradient;
   DegradationOptions degradation;
   CoherenceOptions coherence;
+  FrictionOptions friction;
 
   /// @throws Error naming the first option out of range.
   void validate() const;

@@ -6,6 +6,7 @@
 #include <khz/contact/export.hpp>
 #include <khz/contact/query/contact_options.hpp>
 #include <khz/contact/query/contact_result.hpp>
+#include <khz/contact/query/detail/point_friction.hpp>
 #include <khz/contact/tree/deformable_point_tree.hpp>
 #include <khz/contact/tree/point_tree.hpp>
 
@@ -23,7 +24,7 @@ struct TraversalAccess;
 
 /// Everything one pointshell–field pair keeps from query to query. Create one per pair (and
 /// per thread); it belongs to the tree it was made for, which must outlive it. Memory: about
-/// 4 bytes per node and 12 per point.
+/// 4 bytes per node and 12 per point, and 32 more per point with friction on.
 class KHZ_CONTACT_API ContactWorkspace {
  public:
   /// For a rigid pointshell.
@@ -48,9 +49,13 @@ class KHZ_CONTACT_API ContactWorkspace {
   /// @throws Error if the size is not the tree's point count or a weight is not finite and > 0.
   void set_area_weights(std::vector<double> weights);
 
-  /// Forgets temporal coherence, the warm level, the contact floor and the measured cost per
-  /// node: call it when the objects jump (a teleport, a new scene), though a query also notices
-  /// motion beyond the declared bounds itself.
+  /// What friction did at point `point` (PointTree::pointshell() order) in the last query;
+  /// none for an index out of range.
+  FrictionState friction_state(Eigen::Index point) const noexcept;
+
+  /// Forgets temporal coherence, the warm level, the contact floor, the measured cost per node
+  /// and every friction anchor: call it when the objects jump (a teleport, a new scene), though a
+  /// query also notices motion beyond the declared bounds itself.
   void reset() noexcept;
 
   /// The last query's result.
@@ -83,12 +88,23 @@ class KHZ_CONTACT_API ContactWorkspace {
   /// is the next query's floor) and the typical cost per unit.
   void end_degradation(int deepest_level, bool in_contact, double seconds,
                        double cost_units) noexcept;
+  /// Starts a query's friction: advances the count the anchors are stamped with.
+  void begin_friction() noexcept;
+  /// Whether point s's anchor (of a point first appearing on `level`) still holds: it was in
+  /// contact in a query since which no query has rendered its level.
+  bool anchor_holds(Eigen::Index s, int level) const noexcept {
+    const std::uint32_t stamp = m_anchors[static_cast<std::size_t>(s)].query;
+    return stamp != 0 && stamp >= m_level_rendered[static_cast<std::size_t>(level)];
+  }
+  /// Sizes the friction state for the options (empty when friction is off).
+  void size_friction();
 
   ContactOptions m_options;
   ContactResult m_result;
   const void* m_tree_identity;  // the tree this workspace was made for
   Eigen::Index m_nodes;
   Eigen::Index m_points;
+  int m_levels;
   Eigen::Index m_pointshell_dimension;
   Eigen::Index m_field_dimension;
 
@@ -119,6 +135,11 @@ class KHZ_CONTACT_API ContactWorkspace {
   int m_warm_level = -1;
   int m_contact_floor = -1;  // the previous query's deepest level, if it was in contact
   double m_typical_seconds_per_unit = 0.0;  // time_budget: rate-limited cost per unit (0: none yet)
+
+  // Friction (empty when it is off).
+  std::vector<detail::FrictionAnchor> m_anchors;  // per point
+  std::vector<std::uint32_t> m_level_rendered;    // per level: the last query that completed it
+  std::uint32_t m_friction_query = 0;             // queries so far (the anchors' stamps)
 };
 
 }  // namespace khz::contact

@@ -22,6 +22,9 @@ struct KHZ_CONTACT_API ContactStatistics {
   bool coherence_reset = false;
   /// Distinct points in contact (d < 0).
   std::int64_t points_in_contact = 0;
+  /// Of those, the points whose friction slid this query (0 without friction): the others in
+  /// contact stuck, or entered contact (FrictionOptions).
+  std::int64_t points_sliding = 0;
   /// The deepest tree level rendered (−1 before the first query).
   int deepest_level = -1;
   /// How far the deepest point in contact is inside the field: −min d over the points in

@@ -6,6 +6,8 @@
 #include <khz/contact/query/contact_frames.hpp>
 #include <khz/contact/query/contact_options.hpp>
 #include <khz/contact/query/contact_workspace.hpp>
+#include <khz/contact/query/detail/cross_matrix.hpp>
+#include <khz/contact/query/detail/point_friction.hpp>
 #include <khz/contact/tree/deformable_point_tree.hpp>
 #include <khz/contact/tree/point_tree.hpp>
 
@@ -19,13 +21,6 @@
 #include <utility>
 
 namespace khz::contact::detail {
-
-/// The cross-product matrix ã of a: ã b = a × b.
-inline Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& a) noexcept {
-  Eigen::Matrix3d m;
-  m << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
-  return m;
-}
 
 /// A rigid pointshell's points as the traversal reads them.
 class RigidPoints {
@@ -225,6 +220,10 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
     stats.coherence_reset = ws.begin_coherence(rotation, translation, q, field_q, field_bound);
   }
   ContactSums sums;
+  FrictionSums friction_sums;
+  const FrictionOptions& friction = options.friction;
+  const bool with_friction = friction.enabled();
+  if (with_friction) ws.begin_friction();
   ws.m_contact_reduced_force.setZero();
   result.field_reduced_force.setZero();
   const double stiffness = options.stiffness;
@@ -248,6 +247,7 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
   double abandon_after = budget_seconds;
   bool abandonable = false;
   ContactSums kept_sums;
+  FrictionSums kept_friction_sums;
   std::int64_t kept_points_in_contact = 0;
   double kept_deepest_penetration = 0.0;
 
@@ -356,11 +356,18 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
         }
         const Eigen::Vector3d gradient =
             exact_gradient ? Eigen::Vector3d(rotation_f * field_gradient) : normal;
-        sums.add(x - frames.grasp_point, d, normal, gradient, weight * stiffness);
+        const Eigen::Vector3d lever = x - frames.grasp_point;
+        sums.add(lever, d, normal, gradient, weight * stiffness);
         sums.weight += weight;
         ++stats.points_in_contact;
         stats.deepest_penetration = std::max(stats.deepest_penetration, -d);
-        const Eigen::Vector3d f = weight * stiffness * d * normal;  // on the field object, world
+        Eigen::Vector3d f = weight * stiffness * d * normal;  // on the field object, world
+        if (with_friction) {
+          f += add_point_friction({x, lever, normal, gradient, field_point, d, weight * stiffness},
+                                  friction, ws.anchor_holds(s, level), ws.m_friction_query,
+                                  rotation_f, frames.field.translation(),
+                                  ws.m_anchors[static_cast<std::size_t>(s)], friction_sums);
+        }
         if constexpr (Points::deformable) {
           points.add_reduced_force(s, rotation_p.transpose() * -f, ws.m_contact_reduced_force);
         }
@@ -372,6 +379,7 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
     }
     if (abandoned) {
       sums = kept_sums;
+      friction_sums = kept_friction_sums;
       stats.points_in_contact = kept_points_in_contact;
       stats.deepest_penetration = kept_deepest_penetration;
       ws.m_contact_reduced_force = ws.m_kept_contact_reduced_force;
@@ -380,6 +388,7 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
       break;
     }
     stats.deepest_level = level;
+    if (with_friction) ws.m_level_rendered[static_cast<std::size_t>(level)] = ws.m_friction_query;
     if (next_count == 0 || level + 1 == tree.num_levels()) break;
     if (level == options.max_level) {
       stats.complete = false;
@@ -426,6 +435,7 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
       }
       if (abandonable) {
         kept_sums = sums;
+        kept_friction_sums = friction_sums;
         kept_points_in_contact = stats.points_in_contact;
         kept_deepest_penetration = stats.deepest_penetration;
         ws.m_kept_contact_reduced_force = ws.m_contact_reduced_force;
@@ -439,19 +449,26 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
   // L/ℓ scaling (§3.5) and the haptic object's side.
   const double scale = options.scaling_count / std::max(options.scaling_count, sums.weight);
   const double sign = options.haptic_object == HapticObject::distance_field ? 1.0 : -1.0;
-  result.force = sign * scale * sums.force;
-  result.torque = sign * scale * sums.torque;
-  result.force_by_translation = -scale * sums.moments.topLeftCorner<3, 3>();
+  // Friction's sums carry their own derivatives (FrictionSums), and are zero without it.
+  const Eigen::Matrix<double, 6, 6>& tangential = friction_sums.jacobian;
+  result.force = sign * scale * (sums.force + friction_sums.force);
+  result.torque = sign * scale * (sums.torque + friction_sums.torque);
+  result.force_by_translation =
+      scale * (tangential.topLeftCorner<3, 3>() - sums.moments.topLeftCorner<3, 3>());
   result.force_by_rotation =
-      scale * (sums.moments.topRightCorner<3, 3>() + cross_matrix(sums.force));
+      scale * (tangential.topRightCorner<3, 3>() + sums.moments.topRightCorner<3, 3>() +
+               cross_matrix(sums.force));
   // The field object's grasp point moves with it, shortening every lever by Δx (§4.2); a
   // pointshell's moves with the points.
-  result.torque_by_translation = -scale * sums.moments.bottomLeftCorner<3, 3>();
+  result.torque_by_translation =
+      scale * (tangential.bottomLeftCorner<3, 3>() - sums.moments.bottomLeftCorner<3, 3>());
   if (options.haptic_object == HapticObject::distance_field) {
-    result.torque_by_translation += scale * cross_matrix(sums.force);
+    result.torque_by_translation += scale * cross_matrix(sums.force + friction_sums.force);
   }
   result.torque_by_rotation =
-      scale * (sums.moments.bottomRightCorner<3, 3>() + cross_matrix(sums.torque));
+      scale * (tangential.bottomRightCorner<3, 3>() + sums.moments.bottomRightCorner<3, 3>() +
+               cross_matrix(sums.torque));
+  stats.points_sliding = friction_sums.sliding;
   if constexpr (Points::deformable) {
     result.pointshell_reduced_force = scale * ws.m_contact_reduced_force;
   } else {
