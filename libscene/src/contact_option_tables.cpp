@@ -86,8 +86,9 @@ const OptionTable<contact::NestedLevelOptions>& option_table() {
 template <>
 const OptionTable<contact::ContactOptions>& option_table() {
   using O = contact::ContactOptions;
-  // haptic_object is not a key: it is the held object's role. The reader reads the degradation
-  // and coherence blocks itself: which of their keys apply depends on their mode.
+  // haptic_object is not a key: it is the held object's role. The reader reads the degradation,
+  // coherence and friction blocks itself: which of their keys apply depends on their mode, and
+  // friction is also read per pair.
   static const OptionTable<O> table{
       number("stiffness", &O::stiffness, above(0.0)),
       number("scaling_count", &O::scaling_count, above(0.0)),
@@ -106,6 +107,17 @@ const OptionTable<contact::DegradationOptions>& option_table() {
       number("budget_microseconds", &O::budget_microseconds, above(0.0)),
       number("cold_fraction", &O::cold_fraction, open_closed(0.0, 1.0)),
       number("contact_weight", &O::contact_weight, at_least(0.0)),
+  };
+  return table;
+}
+
+template <>
+const OptionTable<contact::FrictionOptions>& option_table() {
+  using O = contact::FrictionOptions;
+  static const OptionTable<O> table{
+      number("static", &O::static_coefficient, at_least(0.0)),
+      number("kinetic", &O::kinetic_coefficient, at_least(0.0)),
+      number("stiffness_ratio", &O::stiffness_ratio, above(0.0)),
   };
   return table;
 }

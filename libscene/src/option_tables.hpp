@@ -45,6 +45,8 @@ template <>
 const OptionTable<contact::DegradationOptions>& option_table();
 template <>
 const OptionTable<contact::CoherenceOptions>& option_table();
+template <>
+const OptionTable<contact::FrictionOptions>& option_table();
 
 // libhaptic (haptic_option_tables.cpp)
 template <>

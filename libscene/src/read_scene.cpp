@@ -212,12 +212,86 @@ void read_haptic(const ObjectReader& root, const ReadContext& context, SceneDesc
   }
 }
 
+/// `parent`'s "friction" block, if it has one (a coefficient's other names hinted).
+std::optional<ObjectReader> friction_block(const ObjectReader& parent) {
+  return parent.object("friction", option_table<contact::FrictionOptions>().keys(),
+                       {{"static_coefficient", "static"},
+                        {"kinetic_coefficient", "kinetic"},
+                        {"mu_s", "static"},
+                        {"mu_k", "kinetic"},
+                        {"dynamic", "kinetic"}});
+}
+
+/// A "friction" block over `friction` (keys left out keep its values).
+void read_friction(const ObjectReader& block, contact::FrictionOptions& friction) {
+  option_table<contact::FrictionOptions>().read(block, friction);
+  if (friction.kinetic_coefficient > friction.static_coefficient) {
+    block.fail("kinetic",
+               "expected at most static = " + detail::format_number(friction.static_coefficient) +
+                   " (a sliding contact pulls no harder than a stuck one holds), got " +
+                   detail::format_number(friction.kinetic_coefficient));
+  }
+}
+
+/// "contact.pairs": each entry names two objects that touch, once, and their own friction.
+void read_pairs(const ObjectReader& contact, SceneDescription& scene) {
+  const Json* pairs = contact.array("pairs");
+  if (pairs == nullptr) return;
+  std::vector<bool> held(scene.objects.size(), false);
+  for (const HapticDescription& hand : scene.haptic) {
+    held[static_cast<std::size_t>(hand.object_index)] = true;
+  }
+  for (std::size_t i = 0; i < pairs->size(); ++i) {
+    const Location at = contact.at("pairs").element(i);
+    const ObjectReader entry((*pairs)[i], at, {"objects", "friction"});
+    const Json& names = entry.required("objects", "the two objects' names, [\"a\", \"b\"]");
+    if (!names.is_array() || names.size() != 2 || !names[0].is_string() || !names[1].is_string()) {
+      entry.at("objects").expected("two object names [\"a\", \"b\"]", names);
+    }
+    PairDescription pair;
+    for (std::size_t k = 0; k < 2; ++k) {
+      pair.objects[k] = names[k].get<std::string>();
+      pair.object_indices[k] = object_named(pair.objects[k], scene, entry.at("objects").element(k));
+    }
+    const auto a = static_cast<std::size_t>(pair.object_indices[0]);
+    const auto b = static_cast<std::size_t>(pair.object_indices[1]);
+    if (a == b) entry.fail("objects", "names " + in_quotes(pair.objects[0]) + " twice");
+    if (!(held[a] || held[b])) {
+      entry.fail("objects", "neither " + in_quotes(pair.objects[0]) + " nor " +
+                                in_quotes(pair.objects[1]) +
+                                " is held, and objects no hand holds do not touch each other");
+    }
+    if (!can_touch(scene.objects[a], scene.objects[b])) {
+      entry.fail("objects", in_quotes(pair.objects[0]) + " (" + roles_text(scene.objects[a]) +
+                                ") and " + in_quotes(pair.objects[1]) + " (" +
+                                roles_text(scene.objects[b]) +
+                                ") never touch: one needs the pointshell role and the other the "
+                                "distance_field role");
+    }
+    for (std::size_t j = 0; j < scene.pairs.size(); ++j) {
+      const auto& other = scene.pairs[j].object_indices;
+      if ((other[0] == pair.object_indices[0] && other[1] == pair.object_indices[1]) ||
+          (other[0] == pair.object_indices[1] && other[1] == pair.object_indices[0])) {
+        entry.fail("objects", "this pair is contact.pairs[" + std::to_string(j) +
+                                  "] already; give each pair once");
+      }
+    }
+    pair.friction = scene.contact.friction;
+    if (const auto friction = friction_block(entry)) {
+      read_friction(*friction, pair.friction);
+    }
+    scene.pairs.push_back(pair);
+  }
+}
+
 void read_contact(const ObjectReader& root, SceneDescription& scene) {
   contact::ContactOptions& options = scene.contact;
   options.haptic_object = scene.haptic.front().role;
   const auto contact = root.object(
-      "contact", KeyList(option_table<contact::ContactOptions>(), "degradation", "coherence"),
-      {{"haptic_object", "haptic.role"}, {"temporal_coherence", "coherence"}});
+      "contact",
+      KeyList(option_table<contact::ContactOptions>(), "degradation", "coherence", "friction",
+              "pairs"),
+      {{"haptic_object", "haptic.role"}, {"temporal_coherence", "coherence"}, {"pair", "pairs"}});
   if (!contact) return;
   read_options(*contact, options);
   // Which keys of these two blocks apply depends on their first setting, read first.
@@ -252,6 +326,10 @@ void read_contact(const ObjectReader& root, SceneDescription& scene) {
     }
     coherence_settings.read(*coherence, c);
   }
+  if (const auto friction = friction_block(*contact)) {
+    read_friction(*friction, options.friction);
+  }
+  read_pairs(*contact, scene);
 }
 
 void read_coupling(const ObjectReader& root, SceneDescription& scene) {

@@ -144,6 +144,9 @@ SceneRuntime::SceneRuntime(const PreparedScene& prepared, std::vector<DeviceDesc
   if (scene.duration > 0.0) d.natural_duration = scene.duration;
   d.world =
       std::make_unique<haptic::World>(std::move(bodies), std::move(world_hands), scene.contact);
+  for (const PairDescription& pair : scene.pairs) {
+    d.world->set_pair_friction(pair.object_indices[0], pair.object_indices[1], pair.friction);
+  }
   // Each coupling starts at its grasp frame as the scene writes it (the pose's own quaternion),
   // not as the World recovers it from the body's rotation matrix, which differs by round-off.
   for (std::size_t h = 0; h < hands; ++h) {

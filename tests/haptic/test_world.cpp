@@ -374,6 +374,75 @@ TEST(World, APairFilterLeavesPairsOut) {
       "no held body can touch another body"));
 }
 
+// Per-pair friction (World::set_pair_friction, contact::FrictionOptions): a hand presses the
+// ball on the floor and slides it. Frictionless, the ball follows the hand and the hand feels no
+// drag; with μ_k = 0.4 it feels the kinetic drag, μ_k times the normal force, against its motion.
+TEST(World, PairFrictionDragsAHandSlidingABallAlongTheFloor) {
+  const auto drag_over_normal = [](const contact::FrictionOptions* friction) {
+    const Eigen::Vector3d start(0.0, 0.0, ball_radius + 0.02);
+    const Eigen::Vector3d pressed(0.0, 0.0, ball_radius - 0.01);
+    SimulatedOperator device(keyframe_target({{0.0, at(start)},
+                                              {0.3, at(pressed)},
+                                              {0.6, at(pressed)},
+                                              {1.6, at(pressed + Eigen::Vector3d(0.05, 0, 0))}}),
+                             SimulatedOperatorOptions{});
+    SafeDevice safe(device);
+    safe.open();
+    Hand hand;
+    hand.body = 0;
+    hand.device = &safe;
+    hand.coupling = coupling_options();
+    std::vector<Body> bodies = ball_and_floor(start);
+    World world(std::move(bodies), {hand}, contact_options());
+    if (friction != nullptr) world.set_pair_friction(1, 0, *friction);
+    double drag = 0.0, normal = 0.0;
+    std::int64_t sliding = 0;
+    for (int i = 0; i < 1600; ++i) {
+      const double now = i * 1e-3;
+      const CycleRecord& r = world.cycle(now, now + 1e-3, [&] { return now + 1e-4; })[0];
+      EXPECT_TRUE(r.device_valid && r.contact_valid && r.coupling_valid) << "cycle " << i;
+      if (i >= 900) {  // sliding steadily
+        drag += r.rendered.force.x();
+        normal += r.rendered.force.z();
+        sliding += r.contact.statistics.points_sliding;
+      }
+    }
+    EXPECT_EQ(sliding > 0, friction != nullptr);
+    return drag / normal;
+  };
+  const contact::FrictionOptions friction{0.5, 0.4, 1.0};
+  EXPECT_LT(std::abs(drag_over_normal(nullptr)), 0.02);
+  const double dragged = drag_over_normal(&friction);
+  EXPECT_LT(dragged, -0.35) << "the kinetic drag, against the motion (+x)";
+  EXPECT_GT(dragged, -0.45);
+}
+
+TEST(World, RefusesPairFrictionForBodiesThatDoNotTouch) {
+  ScriptedHand scripted({0, 0, 1}, {0, 0, 1});
+  std::vector<Body> bodies = ball_and_floor({0, 0, 1});
+  bodies.push_back(bodies[1]);
+  bodies[2].name = "wall";
+  World world(std::move(bodies), {holding_body_0(scripted)}, contact_options());
+  const contact::FrictionOptions friction{0.5, 0.4, 1.0};
+  world.set_pair_friction(0, 2, friction);
+  EXPECT_EQ(world.pair_friction(1).static_coefficient, 0.5);
+  EXPECT_EQ(world.pair_friction(0).static_coefficient, 0.0) << "ball–floor keeps the scene's";
+  EXPECT_TRUE(throws_with_message<Error>([&] { world.set_pair_friction(1, 2, friction); },
+                                         "body 'floor' and body 'wall' never touch"));
+  EXPECT_TRUE(throws_with_message<Error>([&] { world.set_pair_friction(0, 0, friction); },
+                                         "body 'ball' given twice"));
+  EXPECT_TRUE(throws_with_message<Error>([&] { world.set_pair_friction(0, 3, friction); },
+                                         "bodies 0 and 3 (there are 3)"));
+  EXPECT_TRUE(throws_with_message<Error>(
+      [&] {
+        world.set_pair_friction(0, 1, {0.2, 0.3, 1.0});
+      },
+      "friction.kinetic_coefficient must be finite, ≥ 0 and at most"));
+  // set_contact_options() keeps a pair's own friction.
+  world.set_contact_options(contact_options());
+  EXPECT_EQ(world.pair_friction(1).static_coefficient, 0.5);
+}
+
 TEST(World, RefusesBadSetUpsNamingTheBodyOrHand) {
   ScriptedHand scripted({0, 0, 1}, {0, 0, 1});
   const std::vector<Body> bodies = ball_and_floor({0, 0, 1});

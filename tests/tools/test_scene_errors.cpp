@@ -314,6 +314,58 @@ TEST(SceneErrors, ChoicesAndSettingsOfAnotherChoice) {
                          "objects[0].size", "give either \"scale\" or \"size\", not both"));
 }
 
+TEST(SceneErrors, Friction) {
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["contact"] = {{"friction", {{"static", 0.2}, {"kinetic", 0.3}}}};
+                         }),
+                         "contact.friction.kinetic",
+                         "expected at most static = 0.2 (a sliding contact pulls no harder than "
+                         "a stuck one holds), got 0.3"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["contact"] = {{"friction", {{"static", -0.2}}}};
+                         }),
+                         "contact.friction.static", "expected a number ≥ 0, got -0.2"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["contact"] = {{"friction", {{"mu_s", 0.2}}}};
+                         }),
+                         "contact.friction.mu_s", "unknown key; did you mean \"static\"?"));
+  // Two hands: the tool and the ball (pointshells), the wall and the floor fixed (fields).
+  const auto pairs = [](Json entries) {
+    return edited([&](Json& s) {
+      s["version"] = 2;
+      s["objects"].push_back(
+          {{"name", "floor"}, {"mesh", "cube.off"}, {"roles", {"distance_field"}}});
+      s["objects"].push_back({{"name", "ball"}, {"mesh", "cube.off"}, {"roles", {"pointshell"}}});
+      s["haptic"] = Json::parse(R"([{"object": "tool"}, {"object": "ball"}])");
+      s["contact"] = {{"pairs", entries}};
+    });
+  };
+  EXPECT_TRUE(fails_with(pairs(Json::parse(R"([{"objects": ["tool"]}])")),
+                         "contact.pairs[0].objects",
+                         "expected two object names [\"a\", \"b\"], got [\"tool\"]"));
+  EXPECT_TRUE(fails_with(pairs(Json::parse(R"([{"objects": ["tool", "walls"]}])")),
+                         "contact.pairs[0].objects[1]",
+                         "no object is named \"walls\"; did you mean \"wall\"?"));
+  EXPECT_TRUE(fails_with(pairs(Json::parse(R"([{"objects": ["wall", "wall"]}])")),
+                         "contact.pairs[0].objects", "names \"wall\" twice"));
+  EXPECT_TRUE(fails_with(pairs(Json::parse(R"([{"objects": ["wall", "floor"]}])")),
+                         "contact.pairs[0].objects",
+                         "neither \"wall\" nor \"floor\" is held, and objects no hand holds do "
+                         "not touch each other"));
+  EXPECT_TRUE(fails_with(pairs(Json::parse(R"([{"objects": ["tool", "ball"]}])")),
+                         "contact.pairs[0].objects",
+                         "\"tool\" (\"pointshell\") and \"ball\" (\"pointshell\") never touch: one "
+                         "needs the pointshell role and the other the distance_field role"));
+  EXPECT_TRUE(fails_with(
+      pairs(Json::parse(R"([{"objects": ["tool", "wall"]}, {"objects": ["wall", "tool"]}])")),
+      "contact.pairs[1].objects", "this pair is contact.pairs[0] already; give each pair once"));
+  EXPECT_TRUE(fails_with(
+      pairs(Json::parse(R"([{"objects": ["tool", "wall"], "friction": {"kinetic": 0.1}}])")),
+      "contact.pairs[0].friction.kinetic",
+      "expected at most static = 0 (a sliding contact pulls no harder than a "
+      "stuck one holds), got 0.1"));
+}
+
 TEST(SceneErrors, ObjectsAndRoles) {
   EXPECT_TRUE(fails_with(edited([](Json& s) { s["objects"][1]["name"] = "tool"; }),
                          "objects[1].name",

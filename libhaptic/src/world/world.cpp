@@ -63,6 +63,7 @@ struct World::Data {
   struct PairState {
     std::unique_ptr<contact::ContactWorkspace> workspace;
     double voxel = 0.0;  // the field's grid spacing (m), 0 for an analytic field
+    std::optional<contact::FrictionOptions> friction;  // set_pair_friction()'s, if given
   };
 
   std::vector<Body> bodies;
@@ -80,10 +81,13 @@ struct World::Data {
 
   bool query(int index) noexcept;
 
-  /// `options` with the haptic object of pair `index`: the role of its hand's body.
-  contact::ContactOptions pair_options(const contact::ContactOptions& options,
-                                       const WorldPair& pair) const {
+  /// `options` with the haptic object of pair `index` (the role of its hand's body) and the
+  /// pair's own friction, if it has one.
+  contact::ContactOptions pair_options(
+      const contact::ContactOptions& options, const WorldPair& pair,
+      const std::optional<contact::FrictionOptions>& friction = std::nullopt) const {
     contact::ContactOptions result = options;
+    if (friction) result.friction = *friction;
     result.haptic_object = hands[static_cast<std::size_t>(pair.hand)].hand.body == pair.pointshell
                                ? contact::HapticObject::pointshell
                                : contact::HapticObject::distance_field;
@@ -241,7 +245,8 @@ World::World(std::vector<Body> bodies, std::vector<Hand> hands,
         d.pair_states.push_back({make_workspace(d.bodies[static_cast<std::size_t>(pointshell)],
                                                 d.bodies[static_cast<std::size_t>(field)],
                                                 d.pair_options(options, pair)),
-                                 voxel_size(d.bodies[static_cast<std::size_t>(field)])});
+                                 voxel_size(d.bodies[static_cast<std::size_t>(field)]),
+                                 std::nullopt});
         d.pairs.push_back(pair);
         applies = false;
       }
@@ -405,14 +410,50 @@ void World::reset_contact() noexcept {
 
 void World::set_contact_options(const contact::ContactOptions& options) {
   Data& d = *m_data;
+  options.validate();
   for (std::size_t p = 0; p < d.pairs.size(); ++p) {
-    d.pair_states[p].workspace->set_options(d.pair_options(options, d.pairs[p]));
+    d.pair_states[p].workspace->set_options(
+        d.pair_options(options, d.pairs[p], d.pair_states[p].friction));
   }
   d.contact_options = options;
 }
 
 const contact::ContactOptions& World::contact_options() const noexcept {
   return m_data->contact_options;
+}
+
+void World::set_pair_friction(int body_a, int body_b, const contact::FrictionOptions& friction) {
+  Data& d = *m_data;
+  const int body_count = static_cast<int>(d.bodies.size());
+  if (body_a < 0 || body_a >= body_count || body_b < 0 || body_b >= body_count) {
+    throw Error("World::set_pair_friction: bodies " + std::to_string(body_a) + " and " +
+                std::to_string(body_b) + " (there are " + std::to_string(body_count) + ")");
+  }
+  if (body_a == body_b) {
+    throw Error("World::set_pair_friction: " + d.body_name(body_a) + " given twice");
+  }
+  contact::ContactOptions checked = d.contact_options;
+  checked.friction = friction;
+  checked.validate();
+  bool found = false;
+  for (std::size_t p = 0; p < d.pairs.size(); ++p) {
+    const WorldPair& pair = d.pairs[p];
+    if (!((pair.pointshell == body_a && pair.field == body_b) ||
+          (pair.pointshell == body_b && pair.field == body_a))) {
+      continue;
+    }
+    d.pair_states[p].friction = friction;
+    d.pair_states[p].workspace->set_options(d.pair_options(d.contact_options, pair, friction));
+    found = true;
+  }
+  if (!found) {
+    throw Error("World::set_pair_friction: " + d.body_name(body_a) + " and " + d.body_name(body_b) +
+                " never touch (no hand holds either, or their roles do not meet)");
+  }
+}
+
+const contact::FrictionOptions& World::pair_friction(int index) const noexcept {
+  return m_data->pair_states[static_cast<std::size_t>(index)].workspace->options().friction;
 }
 
 }  // namespace khz::haptic

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cstddef>
 #include <filesystem>
 #include <string>
@@ -37,6 +38,19 @@ struct HapticDescription {
   DeviceDescription device;
 };
 
+/// One entry of "contact.pairs": the contact between two objects where it differs from the
+/// scene's "contact" block.
+struct PairDescription {
+  /// "objects" (required): the two objects' names, distinct, one of them held and their roles
+  /// meeting (one's pointshell, the other's distance field), so that they touch.
+  std::array<std::string, 2> objects;
+  /// Their indices in SceneDescription::objects (filled in by the reader).
+  std::array<int, 2> object_indices{-1, -1};
+  /// "friction": contact::FrictionOptions of this pair as {"static", "kinetic",
+  /// "stiffness_ratio"}; a key left out keeps the scene's "contact.friction" value.
+  contact::FrictionOptions friction;
+};
+
 /// The description of a scene, as read from a scene file (read_scene()). Plain values:
 /// everything the preparation and run steps need, resolved (absolute paths, unit normals and
 /// quaternions, derived defaults filled in), and nothing computed from the meshes.
@@ -62,10 +76,13 @@ struct SceneDescription {
   /// "contact": contact::ContactOptions with the same JSON names (stiffness, scaling_count,
   /// max_level, gradient, degradation {mode, warm_threshold, budget_microseconds,
   /// cold_fraction, contact_weight}, coherence {enabled, max_translation, max_rotation,
-  /// max_deformation, max_field_deformation, max_skip}) and its defaults, for every pair.
-  /// haptic_object is not a key: the reader sets it to haptic[0].role (each hand's own role is
-  /// its HapticDescription::role).
+  /// max_deformation, max_field_deformation, max_skip}, friction {static, kinetic,
+  /// stiffness_ratio}) and its defaults, for every pair. haptic_object is not a key: the reader
+  /// sets it to haptic[0].role (each hand's own role is its HapticDescription::role).
   contact::ContactOptions contact;
+  /// "contact.pairs": pairs of objects whose contact differs from "contact" (their friction),
+  /// at most one entry per pair.
+  std::vector<PairDescription> pairs;
   /// "coupling": haptic::CouplingOptions with the same JSON names and defaults, for every hand;
   /// the limits that default to unlimited stay unlimited when absent. period is not a key: the
   /// reader sets it to 1 / loop.rate_hz.

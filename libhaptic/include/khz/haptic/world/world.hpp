@@ -130,6 +130,14 @@ class KHZ_HAPTIC_API World {
   /// The contact options last given (constructor or set_contact_options()), before each pair
   /// gets its hand's role as the haptic object.
   const contact::ContactOptions& contact_options() const noexcept;
+  /// Gives the pairs between bodies a and b (in either role, and for either hand) their own
+  /// friction in place of contact_options().friction, now and after set_contact_options(); and
+  /// resets them.
+  /// @throws Error naming the bodies if a or b is out of range, they are the same, no pair joins
+  ///         them, or `friction` is invalid (contact::ContactOptions::validate()).
+  void set_pair_friction(int body_a, int body_b, const contact::FrictionOptions& friction);
+  /// The friction pair `index` is queried with.
+  const contact::FrictionOptions& pair_friction(int index) const noexcept;
 
  private:
   void begin_cycle(double deadline) noexcept;
