@@ -22,16 +22,45 @@ struct FrictionAnchor {
   FrictionState state = FrictionState::none;
 };
 
-/// The tangential forces of one query before the L/ℓ scaling, on the field object, world frame.
+/// The tangential forces of one query before the L/ℓ scaling, on the field object, world frame,
+/// and what their derivatives are assembled from (jacobian()).
+///
+/// Per point, with k the point's effective stiffness (f = k P s: k_t sticking, μ_k |f_n| / ‖P s‖
+/// sliding) and w = N × r + s × N, the derivatives of add_point_friction() expand, by
+/// P r̃ = r̃ − N (N × r)ᵀ and ã b̃ = b aᵀ − (a·b) 1, into
+///   ∂f/∂x = −k 1 + k N Nᵀ
+///   ∂f/∂ω = (k r)~ − (k (N·s) N)~ − k N wᵀ
+///   ∂T/∂x = −(k r)~ + k (r × N) Nᵀ
+///   ∂T/∂ω = k (r × N)(−w)ᵀ + r (k r − f)ᵀ − k (N·s) N rᵀ + (−k r·r + k (N·s)(r·N) + f·r) 1
+/// and, sliding, one more rank-one term [u; r × u] [k u + μ_k c g; k (N·s)(u × N) − k u × r
+/// − μ_k c g × r]ᵀ (the pull's fixed length and its change with depth). So a point adds two
+/// rank-one updates (three sliding), two vectors and three numbers; the cross matrices and the
+/// identity terms are formed once, in jacobian().
 struct FrictionSums {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< Σ f_t
   Eigen::Vector3d torque = Eigen::Vector3d::Zero();  ///< Σ r × f_t
+  double stiffness = 0.0;                            ///< Σ k
+  double diagonal = 0.0;                             ///< Σ (−k r·r + k (N·s)(r·N) + f·r)
+  Eigen::Vector3d lever = Eigen::Vector3d::Zero();   ///< Σ k r
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();  ///< Σ k (N·s) N
+  /// Σ k [N; r × N] [N; −w]ᵀ, plus the sliding points' rank-one terms.
+  Eigen::Matrix<double, 6, 6> moments = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix3d lever_moments = Eigen::Matrix3d::Zero();  ///< Σ r (k r − f)ᵀ − k (N·s) N rᵀ
+  std::int64_t sliding = 0;                                 ///< Points that slid.
+
   /// [Σ ∂f_t/∂x, Σ ∂f_t/∂ω; Σ ∂(r × f_t)/∂x, Σ ∂(r × f_t)/∂ω] for the motion ContactSums
   /// describes, complete per point (the normal's turn and the lever's included) except the
   /// lever shortening by Δx when the grasp point moves with the field object, which the
   /// traversal adds for the total force.
-  Eigen::Matrix<double, 6, 6> jacobian = Eigen::Matrix<double, 6, 6>::Zero();
-  std::int64_t sliding = 0;  ///< Points that slid.
+  Eigen::Matrix<double, 6, 6> jacobian() const noexcept {
+    Eigen::Matrix<double, 6, 6> j = moments;
+    j.topLeftCorner<3, 3>().diagonal().array() -= stiffness;
+    j.topRightCorner<3, 3>() += cross_matrix(lever - offset);
+    j.bottomLeftCorner<3, 3>() -= cross_matrix(lever);
+    j.bottomRightCorner<3, 3>() += lever_moments;
+    j.bottomRightCorner<3, 3>().diagonal().array() += diagonal;
+    return j;
+  }
 };
 
 /// One point in contact: its position x and lever r = x − grasp point (world), inward normal N
@@ -80,39 +109,39 @@ inline Eigen::Vector3d add_point_friction(const FrictionPoint& point,
   const double limit =
       (slid_before ? friction.kinetic_coefficient : friction.static_coefficient) * normal_force;
 
-  const Eigen::Matrix3d projector = Eigen::Matrix3d::Identity() - n * n.transpose();
-  const Eigen::Matrix3d lever_cross = cross_matrix(r);
-  const Eigen::Matrix3d by_rotation =  // ∂(P s)/∂ω
-      projector * lever_cross - n.dot(s) * cross_matrix(n) - n * s.cross(n).transpose();
-
-  Eigen::Vector3d f;
-  Eigen::Matrix3d f_by_translation, f_by_rotation;
-  if (tangential_stiffness * tangential.norm() <= limit) {
-    f = tangential_stiffness * tangential;
-    f_by_translation = -tangential_stiffness * projector;
-    f_by_rotation = tangential_stiffness * by_rotation;
-  } else {
-    const double length = tangential.norm();
+  const double length = tangential.norm();
+  const double normal_offset = n.dot(s);  // N·s
+  double k = tangential_stiffness;
+  if (tangential_stiffness * length > limit) {
+    // Slides: held at μ_k |f_n| along u, its anchor dragged to that spring length behind it.
     const Eigen::Vector3d u = tangential / length;
     const double pull = friction.kinetic_coefficient * normal_force;
     const double pull_by_depth = friction.kinetic_coefficient * point.normal_stiffness;  // −∂/∂d
-    const Eigen::Matrix3d turn =
-        (pull / length) * (Eigen::Matrix3d::Identity() - u * u.transpose());
-    f = pull * u;
-    f_by_translation = pull_by_depth * u * point.gradient.transpose() - turn * projector;
-    f_by_rotation = -pull_by_depth * u * point.gradient.cross(r).transpose() + turn * by_rotation;
+    k = pull / length;
+    Eigen::Matrix<double, 6, 1> left, right;
+    left << u, r.cross(u);
+    right << k * u + pull_by_depth * point.gradient,
+        k * (normal_offset * u.cross(n) - u.cross(r)) - pull_by_depth * point.gradient.cross(r);
+    sums.moments.noalias() += left * right.transpose();
     anchor.position =
         point.field_point - field_rotation.transpose() * (pull / tangential_stiffness * u);
     anchor.state = FrictionState::sliding;
     ++sums.sliding;
   }
+  const Eigen::Vector3d f = k * tangential;
+  const Eigen::Vector3d w = n.cross(r) + s.cross(n);
+  Eigen::Matrix<double, 6, 1> left, right;
+  left << k * n, k * r.cross(n);
+  right << n, -w;
+  sums.moments.noalias() += left * right.transpose();
+  sums.lever_moments.noalias() +=
+      r * (k * r - f).transpose() - (k * normal_offset) * n * r.transpose();
   sums.force += f;
   sums.torque += r.cross(f);
-  sums.jacobian.topLeftCorner<3, 3>() += f_by_translation;
-  sums.jacobian.topRightCorner<3, 3>() += f_by_rotation;
-  sums.jacobian.bottomLeftCorner<3, 3>() += lever_cross * f_by_translation;
-  sums.jacobian.bottomRightCorner<3, 3>() +=
-      lever_cross * f_by_rotation - cross_matrix(f) * lever_cross;
+  sums.stiffness += k;
+  sums.diagonal += -k * r.squaredNorm() + k * normal_offset * r.dot(n) + f.dot(r);
+  sums.lever += k * r;
+  sums.offset += (k * normal_offset) * n;
   return f;
 }
 

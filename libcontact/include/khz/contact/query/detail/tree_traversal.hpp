@@ -450,7 +450,8 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
   const double scale = options.scaling_count / std::max(options.scaling_count, sums.weight);
   const double sign = options.haptic_object == HapticObject::distance_field ? 1.0 : -1.0;
   // Friction's sums carry their own derivatives (FrictionSums), and are zero without it.
-  const Eigen::Matrix<double, 6, 6>& tangential = friction_sums.jacobian;
+  const Eigen::Matrix<double, 6, 6> tangential =
+      with_friction ? friction_sums.jacobian() : Eigen::Matrix<double, 6, 6>::Zero();
   result.force = sign * scale * (sums.force + friction_sums.force);
   result.torque = sign * scale * (sums.torque + friction_sums.torque);
   result.force_by_translation =
