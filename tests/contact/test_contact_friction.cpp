@@ -123,6 +123,28 @@ TEST(ContactFriction, FlatPatchSticksUpToTheStaticLimitThenSlidesAtTheKineticOne
   EXPECT_NEAR(workspace.result().force.head<2>().norm(), 0.0, 1e-15);
 }
 
+// Lifted off, the query stops at level 0 (every deeper node culled): the deeper levels' points
+// lose their anchors too, so pressed again a little further on, every point anchors anew and
+// nothing pulls sideways.
+TEST(ContactFriction, LiftingOffDropsTheAnchorsOfEveryLevel) {
+  const PointTree& sphere = fixture().sphere;
+  const ImplicitShape floor = ground();
+  ContactWorkspace workspace(sphere, friction_options(0.5, 0.4));
+  ASSERT_TRUE(query_contact(sphere, floor, patch_frames(0.03, {0.0, 0.0, 1.0}), workspace));
+  ASSERT_EQ(workspace.result().statistics.deepest_level, sphere.num_levels() - 1);
+  ASSERT_TRUE(query_contact(sphere, floor, patch_frames(-3.0, {0.0, 0.0, 1.0}), workspace));
+  ASSERT_EQ(workspace.result().statistics.deepest_level, 0);
+  ASSERT_TRUE(query_contact(sphere, floor, patch_frames(0.03, {0.005, 0.0, 1.0}), workspace));
+  EXPECT_GT(workspace.result().statistics.points_in_contact, 50);
+  ContactWorkspace frictionless(sphere, friction_options(0.0, 0.0));
+  ASSERT_TRUE(query_contact(sphere, floor, patch_frames(0.03, {0.005, 0.0, 1.0}), frictionless));
+  EXPECT_EQ(workspace.result().force, frictionless.result().force);
+  for (Eigen::Index s = 0; s < sphere.num_points(); ++s) {
+    const FrictionState state = workspace.friction_state(s);
+    EXPECT_TRUE(state == FrictionState::none || state == FrictionState::anchored) << "point " << s;
+  }
+}
+
 TEST(ContactFriction, ZeroCoefficientsAreTheFrictionlessQuery) {
   const PointTree& sphere = fixture().sphere;
   const ImplicitShape floor = ground();

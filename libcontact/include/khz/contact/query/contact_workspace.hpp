@@ -96,6 +96,13 @@ class KHZ_CONTACT_API ContactWorkspace {
     const std::uint32_t stamp = m_anchors[static_cast<std::size_t>(s)].query;
     return stamp != 0 && stamp >= m_level_rendered[static_cast<std::size_t>(level)];
   }
+  /// Levels [first, end) were rendered by this query: their points not found in contact lose
+  /// their anchors.
+  void mark_rendered(int first, int end) noexcept {
+    for (int level = first; level < end; ++level) {
+      m_level_rendered[static_cast<std::size_t>(level)] = m_friction_query;
+    }
+  }
   /// Sizes the friction state for the options (empty when friction is off).
   void size_friction();
 

@@ -388,8 +388,13 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
       break;
     }
     stats.deepest_level = level;
-    if (with_friction) ws.m_level_rendered[static_cast<std::size_t>(level)] = ws.m_friction_query;
-    if (next_count == 0 || level + 1 == tree.num_levels()) break;
+    if (next_count == 0 || level + 1 == tree.num_levels()) {
+      // Nothing queued: every deeper point was culled, so those levels count as rendered (out of
+      // contact) for friction's anchors too.
+      if (with_friction) ws.mark_rendered(level, tree.num_levels());
+      break;
+    }
+    if (with_friction) ws.mark_rendered(level, level + 1);
     if (level == options.max_level) {
       stats.complete = false;
       break;
