@@ -408,6 +408,12 @@ TEST(World, PairFrictionDragsAHandSlidingABallAlongTheFloor) {
       }
     }
     EXPECT_EQ(sliding > 0, friction != nullptr);
+    // The points friction_state() calls sliding are the ones the last query counted.
+    std::int64_t sliding_now = 0;
+    for (Eigen::Index s = 0; s < ball().num_points(); ++s) {
+      sliding_now += world.friction_state(0, s) == contact::FrictionState::sliding ? 1 : 0;
+    }
+    EXPECT_EQ(sliding_now, world.pair_result(0).statistics.points_sliding);
     return drag / normal;
   };
   const contact::FrictionOptions friction{0.5, 0.4, 1.0};

@@ -14,14 +14,16 @@
 namespace khz::test {
 namespace {
 
-/// A 4 cm cube tool pressed 3 mm into a 10 cm cube wall and lifted, over 0.3 s.
-std::filesystem::path write_scene() {
-  const std::filesystem::path trajectory = scratch_file("press.csv");
+/// A 4 cm cube tool pressed 3 mm into a 10 cm cube wall and lifted, over 0.3 s; or, `sliding`,
+/// pressed and slid 2 cm along the wall, with friction μ_s 0.5, μ_k 0.4.
+std::filesystem::path write_scene(bool sliding = false) {
+  const std::filesystem::path trajectory = scratch_file(sliding ? "slide.csv" : "press.csv");
   std::ofstream csv(trajectory);
-  csv << "t,x,y,z,qw,qx,qy,qz\n0,0,0.072,0,1,0,0,0\n0.15,0,0.066,0,1,0,0,0\n"
-         "0.3,0,0.072,0,1,0,0,0\n";
+  csv << "t,x,y,z,qw,qx,qy,qz\n0,0,0.072,0,1,0,0,0\n"
+      << (sliding ? "0.1,0,0.066,0,1,0,0,0\n0.3,0.02,0.066,0,1,0,0,0\n"
+                  : "0.15,0,0.066,0,1,0,0,0\n0.3,0,0.072,0,1,0,0,0\n");
   csv.close();
-  const std::filesystem::path scene = scratch_file("scene.json");
+  const std::filesystem::path scene = scratch_file(sliding ? "sliding.json" : "scene.json");
   std::ofstream(scene) << R"({"objects": [
     {"name": "wall", "mesh": ")"
                        << test_file("scenes/cube.off").string() << R"(", "size": 0.1,
@@ -32,7 +34,9 @@ std::filesystem::path write_scene() {
      "pointshell": {"method": "random", "points": 4000, "first_level_points": 50, "growth": 4,
                     "levels": 3}}],
    "haptic": {"object": "tool"},
-   "contact": {"stiffness": 2000},
+   "contact": {"stiffness": 2000)"
+                       << (sliding ? R"(, "friction": {"static": 0.5, "kinetic": 0.4})" : "")
+                       << R"(},
    "coupling": {"stiffness": 300, "saturation_force": 5},
    "device": {"type": "trajectory", "file": ")"
                        << trajectory.string() << R"(", "playback": "at_nominal_rate"},
@@ -106,6 +110,34 @@ TEST(KhzRun, WritesTheCycleLogFramesAndParaViewSeries) {
                            "\" --cache \"" + cache.string() + "\" --frames 0");
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_TRUE(has_line_with(again, {"total:", "(0 computed"}));
+}
+
+// Friction in `khz run`: the log counts the points that slid and the summary says how many did;
+// the hand sliding the tool along the wall feels the drag. Without friction, no such line.
+TEST(KhzRun, LogsAndSummarizesSlidingPoints) {
+  const std::filesystem::path out = scratch_directory("sliding_run");
+  const std::filesystem::path cache = scratch_directory("cache");
+  const KhzRun run = khz("run \"" + write_scene(true).string() + "\" --out \"" + out.string() +
+                         "\" --cache \"" + cache.string() + "\"");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(has_line_with(run, {"friction:", "% of the points in contact slid"}));
+  const std::vector<run::CycleRow> rows = run::read_cycle_csv(out / "cycles.csv");
+  ASSERT_EQ(rows.size(), 300u);
+  std::int64_t sliding = 0;
+  double drag = 0.0;
+  for (std::size_t k = 150; k < 280; ++k) {
+    sliding += rows[k].sliding;
+    drag += rows[k].rendered_force.x();
+    EXPECT_LE(rows[k].sliding, rows[k].contacts);
+  }
+  EXPECT_GT(sliding, 0);
+  EXPECT_LT(drag, 0.0) << "the drag acts against the slide (+x)";
+
+  const KhzRun press =
+      khz("run \"" + write_scene().string() + "\" --out \"" +
+          scratch_directory("press_run").string() + "\" --cache \"" + cache.string() + "\"");
+  ASSERT_EQ(press.exit_code, 0) << press.output;
+  EXPECT_FALSE(has_line_with(press, {"friction:"}));
 }
 
 TEST(KhzReport, WritesTablesAndPlots) {

@@ -199,6 +199,7 @@ TEST(CycleLog, CsvRoundTripIsExactAndMalformedRowsNameTheirLine) {
   rows[2].penetration_voxels = 0.3;
   rows[2].residual_force = 0.07;
   rows[2].energy = -1.0 / 3.0;
+  rows[2].sliding = 7;
   const std::filesystem::path file = test::scratch_file("cycles.csv");
   write_cycle_csv(rows, file);
   const std::vector<CycleRow> back = read_cycle_csv(file);
@@ -213,23 +214,31 @@ TEST(CycleLog, CsvRoundTripIsExactAndMalformedRowsNameTheirLine) {
   EXPECT_EQ(back[2].penetration_voxels, 0.3);
   EXPECT_EQ(back[2].residual_force, 0.07);
   EXPECT_EQ(back[2].energy, -1.0 / 3.0);
+  EXPECT_EQ(back[2].sliding, 7);
 
-  // A log written before the last four columns existed still reads, those fields zero.
-  const std::filesystem::path legacy = test::scratch_file("legacy_cycles.csv");
-  {
+  // Logs written before the last column, or the last five, existed still read, those fields 0.
+  const auto without_last = [&](int columns, const char* name) {
+    const std::filesystem::path earlier = test::scratch_file(name);
     std::ifstream in(file);
-    std::ofstream out(legacy);
+    std::ofstream out(earlier);
     std::string line;
     while (std::getline(in, line)) {
-      for (int column = 0; column < 4; ++column) line.erase(line.rfind(','));
+      for (int column = 0; column < columns; ++column) line.erase(line.rfind(','));
       out << line << "\n";
     }
-  }
-  const std::vector<CycleRow> old = read_cycle_csv(legacy);
+    return earlier;
+  };
+  const std::vector<CycleRow> before_sliding =
+      read_cycle_csv(without_last(1, "metrics_cycles.csv"));
+  ASSERT_EQ(before_sliding.size(), rows.size());
+  EXPECT_EQ(before_sliding[2].energy, -1.0 / 3.0);
+  EXPECT_EQ(before_sliding[2].sliding, 0);
+  const std::vector<CycleRow> old = read_cycle_csv(without_last(5, "legacy_cycles.csv"));
   ASSERT_EQ(old.size(), rows.size());
   EXPECT_EQ(old[1].force, rows[1].force);
   EXPECT_FALSE(old[2].ok);
   EXPECT_EQ(old[2].energy, 0.0);
+  EXPECT_THROW(read_cycle_csv(without_last(4, "truncated_cycles.csv")), reduced::ParseError);
 
   std::ofstream(file, std::ios::app) << "0.5,1,2\n";
   try {
@@ -341,6 +350,24 @@ TEST(FrameRenderer, ShowsObjectsContactPointsAndForce) {
   EXPECT_GT(count(pressed, options.contact_color), 5);
   EXPECT_GT(count(pressed, options.force_color), 20);
   EXPECT_GT(non_background(pressed), 320 * 240 / 10);
+
+  EXPECT_EQ(touching.sliding, 0);
+  EXPECT_EQ(count(pressed, options.sliding_color), 0);
+
+  // With friction, anchored where it is pressed and then moved 2 mm sideways, the points that
+  // slide are drawn apart: the ones the query counted.
+  runtime.world().set_pair_friction(0, 1, {0.5, 0.4, 1.0});
+  const haptic::Pose held = runtime.world().coupling(0).simulation_pose();
+  probe(runtime, held);
+  haptic::Pose moved = held;
+  moved.position.x() += 0.002;
+  probe(runtime, moved);
+  const std::int64_t slid = runtime.world().pair_result(0).statistics.points_sliding;
+  ASSERT_GT(slid, 0);
+  FrameSummary sliding;
+  const render::Image slide = renderer.render(capture_frame(runtime), &sliding);
+  EXPECT_EQ(sliding.sliding, slid);
+  EXPECT_GT(count(slide, options.sliding_color), 5);
 
   runtime.world().coupling(0).reset(grasp_at(0.0, 0.09, 0.0));
   probe(runtime, grasp_at(0.0, 0.09, 0.0));

@@ -456,4 +456,8 @@ const contact::FrictionOptions& World::pair_friction(int index) const noexcept {
   return m_data->pair_states[static_cast<std::size_t>(index)].workspace->options().friction;
 }
 
+contact::FrictionState World::friction_state(int index, Eigen::Index point) const noexcept {
+  return m_data->pair_states[static_cast<std::size_t>(index)].workspace->friction_state(point);
+}
+
 }  // namespace khz::haptic

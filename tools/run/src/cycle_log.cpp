@@ -11,8 +11,10 @@
 namespace khz::run {
 namespace {
 
-constexpr int column_count = 35;
-/// Logs written before the penetration, residual and energy columns have the first 31.
+constexpr int column_count = 36;
+/// Logs written before the sliding column have the first 35; before the penetration, residual
+/// and energy columns, the first 31.
+constexpr int metrics_column_count = 35;
 constexpr int legacy_column_count = 31;
 
 /// The values of a row in header order (booleans and counts as doubles: exact below 2⁵³).
@@ -52,7 +54,8 @@ std::array<double, column_count> columns(const CycleRow& row) {
           row.penetration,
           row.penetration_voxels,
           row.residual_force,
-          row.energy};
+          row.energy,
+          d(row.sliding)};
 }
 
 CycleRow from_columns(const std::array<double, column_count>& c) {
@@ -78,6 +81,7 @@ CycleRow from_columns(const std::array<double, column_count>& c) {
   row.penetration_voxels = c[32];
   row.residual_force = c[33];
   row.energy = c[34];
+  row.sliding = i64(c[35]);
   return row;
 }
 
@@ -107,6 +111,7 @@ CycleRow CycleRow::from(const haptic::CycleRecord& record, double cycle_us) noex
   row.penetration_voxels = record.penetration_voxels;
   row.residual_force = record.residual.force.norm();
   row.energy = record.observed_energy;
+  row.sliding = s.points_sliding;
   return row;
 }
 
@@ -120,14 +125,16 @@ std::string legacy_csv_header() {
          "orientation_y,orientation_z,ok";
 }
 
-}  // namespace
-
-std::string cycle_csv_header() {
+std::string metrics_csv_header() {
   return legacy_csv_header() + ",penetration,penetration_voxels,residual_force,energy";
 }
 
+}  // namespace
+
+std::string cycle_csv_header() { return metrics_csv_header() + ",sliding"; }
+
 bool is_cycle_csv_header(const std::string& line) {
-  return line == cycle_csv_header() || line == legacy_csv_header();
+  return line == cycle_csv_header() || line == metrics_csv_header() || line == legacy_csv_header();
 }
 
 void write_cycle_csv(const std::vector<CycleRow>& rows, const std::filesystem::path& file) {
@@ -156,7 +163,9 @@ std::vector<CycleRow> read_cycle_csv(const std::filesystem::path& file) {
   if (!std::getline(in, line) || !is_cycle_csv_header(line)) {
     throw reduced::ParseError::at_line(source, 1, "expected the header of a khz run cycle log");
   }
-  const int columns_here = line == legacy_csv_header() ? legacy_column_count : column_count;
+  const int columns_here = line == legacy_csv_header()    ? legacy_column_count
+                           : line == metrics_csv_header() ? metrics_column_count
+                                                          : column_count;
   std::vector<CycleRow> rows;
   std::int64_t line_number = 1;
   while (std::getline(in, line)) {

@@ -1,5 +1,7 @@
 #include <khz/run/frame_content.hpp>
 
+#include <utility>
+
 namespace khz::run {
 
 FrameContent capture_frame(scene::SceneRuntime& runtime) {
@@ -21,10 +23,20 @@ FrameContent capture_frame(scene::SceneRuntime& runtime) {
   for (int p = 0; p < static_cast<int>(world.pairs().size()); ++p) {
     const haptic::WorldPair& pair = world.pairs()[static_cast<std::size_t>(p)];
     if (!pair.applies_reduced_forces) continue;  // a pair of two held objects, drawn once
-    frame.points.push_back(
+    PointPicture picture =
         classify_points(world.bodies()[static_cast<std::size_t>(pair.pointshell)],
                         world.bodies()[static_cast<std::size_t>(pair.field)],
-                        world.pair_result(p).statistics.deepest_level));
+                        world.pair_result(p).statistics.deepest_level);
+    if (world.pair_result(p).statistics.points_sliding > 0) {
+      for (std::size_t s = 0; s < picture.states.size(); ++s) {
+        if (picture.states[s] == PointState::in_contact &&
+            world.friction_state(p, static_cast<Eigen::Index>(s)) ==
+                contact::FrictionState::sliding) {
+          picture.states[s] = PointState::sliding;
+        }
+      }
+    }
+    frame.points.push_back(std::move(picture));
   }
   return frame;
 }

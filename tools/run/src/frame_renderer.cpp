@@ -57,7 +57,8 @@ render::Image FrameRenderer::render(const FrameContent& frame, FrameSummary* sum
   for (const PointPicture& picture : frame.points) {
     // Points looked at are depth-tested; points in contact lie inside the other object, so
     // they are drawn over it.
-    for (const PointState state : {PointState::traversed, PointState::in_contact}) {
+    for (const PointState state :
+         {PointState::traversed, PointState::in_contact, PointState::sliding}) {
       reduced::VertexMatrix shown(picture.positions.rows(), 3);
       Eigen::Index count = 0;
       for (std::size_t s = 0; s < picture.states.size(); ++s) {
@@ -66,9 +67,12 @@ render::Image FrameRenderer::render(const FrameContent& frame, FrameSummary* sum
         }
       }
       shown.conservativeResize(count, 3);
-      const bool touching = state == PointState::in_contact;
+      const bool touching = state != PointState::traversed;
       (touching ? counts.in_contact : counts.traversed) += count;
-      const render::Color color = touching ? m_options.contact_color : m_options.traversed_color;
+      if (state == PointState::sliding) counts.sliding += count;
+      const render::Color color = state == PointState::sliding ? m_options.sliding_color
+                                  : touching                   ? m_options.contact_color
+                                                               : m_options.traversed_color;
       render::PointStyle style;
       style.radius = 2.0;
       style.always_on_top = touching;

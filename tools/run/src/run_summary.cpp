@@ -41,6 +41,8 @@ RunSummary summarize(const std::vector<CycleRow>& rows, double period) {
     s.failed_cycles += row.ok ? 0 : 1;
     s.incomplete_cycles += row.complete ? 0 : 1;
     s.max_contacts = std::max(s.max_contacts, row.contacts);
+    s.contact_points += row.contacts;
+    s.sliding_points += row.sliding;
     s.max_nodes = std::max(s.max_nodes, row.nodes);
     s.deepest_level = std::max(s.deepest_level, row.level);
     s.max_force = std::max(s.max_force, row.force.norm());
@@ -77,6 +79,12 @@ void print_summary(std::ostream& out, const RunSummary& s) {
                 static_cast<long long>(s.max_contacts), static_cast<long long>(s.max_nodes),
                 s.deepest_level, static_cast<long long>(s.incomplete_cycles));
   out << line;
+  if (s.sliding_points > 0) {
+    std::snprintf(
+        line, sizeof line, "friction: %.1f %% of the points in contact slid\n",
+        percent_of(static_cast<double>(s.sliding_points), static_cast<double>(s.contact_points)));
+    out << line;
+  }
   std::snprintf(line, sizeof line,
                 "force: max %.3f N contact, %.3f N rendered; max torque %.4f N m\n", s.max_force,
                 s.max_rendered_force, s.max_torque);

@@ -138,6 +138,9 @@ class KHZ_HAPTIC_API World {
   void set_pair_friction(int body_a, int body_b, const contact::FrictionOptions& friction);
   /// The friction pair `index` is queried with.
   const contact::FrictionOptions& pair_friction(int index) const noexcept;
+  /// What friction did at point `point` of pair `index`'s pointshell in its last query
+  /// (contact::ContactWorkspace::friction_state()): for pictures of stuck and sliding points.
+  contact::FrictionState friction_state(int index, Eigen::Index point) const noexcept;
 
  private:
   void begin_cycle(double deadline) noexcept;

@@ -37,6 +37,8 @@ struct CycleRow {
   double penetration_voxels = 0.0;  ///< The same in voxels (CycleRecord::penetration_voxels).
   double residual_force = 0.0;      ///< |F_contact + F_VC| at the queried pose (N).
   double energy = 0.0;              ///< The passivity observer after the cycle (J, device).
+  /// Of the points in contact, those whose friction slid (ContactStatistics::points_sliding).
+  std::int64_t sliding = 0;
 
   /// The row of a cycle's record, with the cycle's measured cost.
   static CycleRow from(const haptic::CycleRecord& record, double cycle_us) noexcept;
@@ -45,11 +47,11 @@ struct CycleRow {
 /// The CSV header line `khz run` writes (without newline): time, force_x … torque_z,
 /// rendered_force_x … rendered_torque_z, nodes, skipped, contacts, level, complete, query_us,
 /// cycle_us, manipulandum_x … z, simulation_x … z, orientation_w, _x, _y, _z, ok, penetration,
-/// penetration_voxels, residual_force, energy.
+/// penetration_voxels, residual_force, energy, sliding.
 std::string cycle_csv_header();
 
 /// Whether `line` is the header of a cycle log read_cycle_csv() reads: cycle_csv_header(), or
-/// that of an earlier version without the last four columns.
+/// that of an earlier version without the last column (sliding: 0 when read) or the last five.
 bool is_cycle_csv_header(const std::string& line);
 
 /// Writes the rows as CSV (header first; each number as the shortest text that reads back to

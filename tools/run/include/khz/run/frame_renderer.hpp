@@ -23,7 +23,8 @@ struct FrameOptions {
   render::Color held_color{120, 160, 230};        ///< The held objects' surfaces.
   render::Color other_color{200, 200, 195};       ///< Every other object's surface.
   render::Color traversed_color{250, 200, 40};    ///< Points looked at, not in contact.
-  render::Color contact_color{220, 30, 30};       ///< Points in contact.
+  render::Color contact_color{220, 30, 30};       ///< Points in contact (stuck, or no friction).
+  render::Color sliding_color{40, 90, 230};       ///< Points in contact whose friction slid.
   render::Color force_color{20, 150, 40};         ///< The contact force arrow.
   /// Newtons drawn as an arrow as long as the scene's radius; 0 picks the coupling's
   /// saturation force, or 1 N when it has none.
@@ -41,7 +42,8 @@ double arrow_reference_force(const scene::SceneDescription& scene, double arrow_
 /// What a frame showed, for checks and captions.
 struct FrameSummary {
   std::int64_t traversed = 0;   ///< Points drawn as looked at (all pairs).
-  std::int64_t in_contact = 0;  ///< Points drawn as in contact.
+  std::int64_t in_contact = 0;  ///< Points drawn as in contact, sliding ones included.
+  std::int64_t sliding = 0;     ///< Of those, the points drawn as sliding.
 };
 
 /// Renders frames of one scene::SceneRuntime through a camera fixed at construction (framing the

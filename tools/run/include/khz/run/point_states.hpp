@@ -16,7 +16,10 @@ namespace khz::run {
 enum class PointState : std::uint8_t {
   untouched = 0,   ///< In a culled subtree: never looked at.
   traversed = 1,   ///< Its distance was looked up; not in contact.
-  in_contact = 2,  ///< On the deepest level rendered, inside the field (d < 0).
+  in_contact = 2,  ///< On the deepest level rendered, inside the field (d < 0), not sliding.
+  /// In contact, and its friction slid in the pair's last query (contact::FrictionState); set by
+  /// capture_frame(), not by classify_points().
+  sliding = 3,
 };
 
 /// A pointshell's points down to some level, placed in the world and classified.

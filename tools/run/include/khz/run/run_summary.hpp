@@ -27,6 +27,8 @@ struct RunSummary {
   std::int64_t failed_cycles = 0;      ///< Rows with ok false.
   std::int64_t incomplete_cycles = 0;  ///< Rows where degradation cut a level.
   std::int64_t max_contacts = 0;       ///< Points in contact, most in one cycle.
+  std::int64_t contact_points = 0;     ///< Points in contact, summed over the cycles.
+  std::int64_t sliding_points = 0;     ///< Of those, the points whose friction slid.
   std::int64_t max_nodes = 0;          ///< Nodes traversed, most in one cycle.
   int deepest_level = -1;              ///< Deepest level any cycle rendered.
   double max_force = 0.0;              ///< Largest |contact force| (N).
