@@ -140,6 +140,15 @@ HapticDescription read_hand(const Json& value, const Location& at, bool in_list,
   return result;
 }
 
+/// Per object, whether a hand holds it.
+std::vector<bool> held_objects(const SceneDescription& scene) {
+  std::vector<bool> held(scene.objects.size(), false);
+  for (const HapticDescription& hand : scene.haptic) {
+    held[static_cast<std::size_t>(hand.object_index)] = true;
+  }
+  return held;
+}
+
 /// Whether objects a and b can touch: one's pointshell against the other's field.
 bool can_touch(const ObjectDescription& a, const ObjectDescription& b) {
   return (a.roles.pointshell && b.roles.distance_field) ||
@@ -180,10 +189,7 @@ void read_haptic(const ObjectReader& root, const ReadContext& context, SceneDesc
   }
   // Every object touches some other through a complementary role, one of the two held: first
   // the objects no hand holds (the usual mistake: a role missing), then the held ones.
-  std::vector<bool> held(scene.objects.size(), false);
-  for (const HapticDescription& hand : scene.haptic) {
-    held[static_cast<std::size_t>(hand.object_index)] = true;
-  }
+  const std::vector<bool> held = held_objects(scene);
   const auto touches = [&](std::size_t i) {
     for (std::size_t j = 0; j < scene.objects.size(); ++j) {
       if (j != i && (held[i] || held[j]) && can_touch(scene.objects[i], scene.objects[j])) {
@@ -237,10 +243,7 @@ void read_friction(const ObjectReader& block, contact::FrictionOptions& friction
 void read_pairs(const ObjectReader& contact, SceneDescription& scene) {
   const Json* pairs = contact.array("pairs");
   if (pairs == nullptr) return;
-  std::vector<bool> held(scene.objects.size(), false);
-  for (const HapticDescription& hand : scene.haptic) {
-    held[static_cast<std::size_t>(hand.object_index)] = true;
-  }
+  const std::vector<bool> held = held_objects(scene);
   for (std::size_t i = 0; i < pairs->size(); ++i) {
     const Location at = contact.at("pairs").element(i);
     const ObjectReader entry((*pairs)[i], at, {"objects", "friction"});

@@ -355,13 +355,18 @@ TEST(ContactFriction, ClosedPathDissipates) {
   EXPECT_LT(with_friction, -0.1);
 }
 
+/// The three rigid translations of a mesh of `vertices` vertices as modes (3·vertices × 3).
+Eigen::MatrixXd rigid_translations(Eigen::Index vertices) {
+  Eigen::MatrixXd translations = Eigen::MatrixXd::Zero(3 * vertices, 3);
+  for (Eigen::Index v = 0; v < vertices; ++v) translations.block<3, 3>(3 * v, 0).setIdentity();
+  return translations;
+}
+
 // A deformable pointshell's reduced force carries the tangential reaction: with the three rigid
 // translations as its modes, U_sᵀ f_s sums to the force on it in its body frame.
 TEST(ContactFriction, ReducedForceCarriesTheTangentialReaction) {
   const query_test::Fixture& f = fixture();
-  const Eigen::Index vertices = f.volume.num_vertices();
-  Eigen::MatrixXd translations = Eigen::MatrixXd::Zero(3 * vertices, 3);
-  for (Eigen::Index v = 0; v < vertices; ++v) translations.block<3, 3>(3 * v, 0).setIdentity();
+  const Eigen::MatrixXd translations = rigid_translations(f.volume.num_vertices());
   const DeformablePointTree cube(f.cube.tree(), f.embedding, translations);
   ContactOptions options = friction_options(0.5, 0.4);
   options.haptic_object = HapticObject::pointshell;
@@ -386,9 +391,7 @@ TEST(ContactFriction, ReducedForceCarriesTheTangentialReaction) {
 // its body frame.
 TEST(ContactFriction, DeformedFieldsReducedForceCarriesTheTangentialReaction) {
   const query_test::Fixture& f = fixture();
-  const Eigen::Index vertices = f.volume.num_vertices();
-  Eigen::MatrixXd translations = Eigen::MatrixXd::Zero(3 * vertices, 3);
-  for (Eigen::Index v = 0; v < vertices; ++v) translations.block<3, 3>(3 * v, 0).setIdentity();
+  const Eigen::MatrixXd translations = rigid_translations(f.volume.num_vertices());
   DistanceFieldOptions grid_options;
   grid_options.cells = 32;
   const DeformedDistanceField deformed(

@@ -47,7 +47,6 @@ ContactWorkspace::ContactWorkspace(const PointTree& tree, const ContactOptions& 
       m_tree_identity(&tree),
       m_nodes(tree.num_nodes()),
       m_points(tree.num_points()),
-      m_levels(tree.num_levels()),
       m_pointshell_dimension(pointshell_dimension),
       m_field_dimension(field_dimension) {
   options.validate();
@@ -60,6 +59,7 @@ ContactWorkspace::ContactWorkspace(const PointTree& tree, const ContactOptions& 
   m_current.assign(widest, 0);
   m_next.assign(widest, 0);
   m_skip_until.assign(static_cast<std::size_t>(m_nodes), 0);
+  m_level_rendered.assign(static_cast<std::size_t>(tree.num_levels()), 0);
   m_abs_q = Eigen::VectorXd::Zero(pointshell_dimension);
   m_previous_q = Eigen::VectorXd::Zero(pointshell_dimension);
   m_previous_field_q = Eigen::VectorXd::Zero(field_dimension);
@@ -89,11 +89,9 @@ void ContactWorkspace::set_options(const ContactOptions& options) {
 void ContactWorkspace::size_friction() {
   if (!m_options.friction.enabled()) {
     m_anchors = {};
-    m_level_rendered = {};
     return;
   }
   m_anchors.resize(static_cast<std::size_t>(m_points));
-  m_level_rendered.resize(static_cast<std::size_t>(m_levels));
 }
 
 FrictionState ContactWorkspace::friction_state(Eigen::Index point) const noexcept {

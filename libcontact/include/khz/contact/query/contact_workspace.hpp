@@ -103,7 +103,7 @@ class KHZ_CONTACT_API ContactWorkspace {
       m_level_rendered[static_cast<std::size_t>(level)] = m_friction_query;
     }
   }
-  /// Sizes the friction state for the options (empty when friction is off).
+  /// Sizes the anchors for the options (none when friction is off).
   void size_friction();
 
   ContactOptions m_options;
@@ -111,7 +111,6 @@ class KHZ_CONTACT_API ContactWorkspace {
   const void* m_tree_identity;  // the tree this workspace was made for
   Eigen::Index m_nodes;
   Eigen::Index m_points;
-  int m_levels;
   Eigen::Index m_pointshell_dimension;
   Eigen::Index m_field_dimension;
 
@@ -143,8 +142,8 @@ class KHZ_CONTACT_API ContactWorkspace {
   int m_contact_floor = -1;  // the previous query's deepest level, if it was in contact
   double m_typical_seconds_per_unit = 0.0;  // time_budget: rate-limited cost per unit (0: none yet)
 
-  // Friction (empty when it is off).
-  std::vector<detail::FrictionAnchor> m_anchors;  // per point
+  // Friction.
+  std::vector<detail::FrictionAnchor> m_anchors;  // per point; empty when friction is off
   std::vector<std::uint32_t> m_level_rendered;    // per level: the last query that completed it
   std::uint32_t m_friction_query = 0;             // queries so far (the anchors' stamps)
 };
