@@ -37,6 +37,8 @@ function(khz_add_library name)
   target_link_libraries(${target} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS}
                                                                     $<BUILD_INTERFACE:khz_warnings>)
 
+  khz_precompile_common_headers(${target})
+
   generate_export_header(
     ${target} BASE_NAME KHZ_${upper} EXPORT_MACRO_NAME KHZ_${upper}_API
     EXPORT_FILE_NAME "${generated}/khz/${name}/export.hpp")

@@ -35,10 +35,41 @@ endif()
 # promise one another's values bit for bit: the compiler inlines shared code into each entry point
 # separately and, allowed to contract, may fuse a multiply-add in one copy and not in another,
 # depending on the CPU it tunes for (docs/ARCHITECTURE.md, "Reproducibility").
+# They also skip the precompiled header, which was compiled with contraction allowed.
 function(khz_round_as_written)
   if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
     set_source_files_properties(${ARGN} DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}
-                                PROPERTIES COMPILE_OPTIONS -ffp-contract=off)
+                                PROPERTIES COMPILE_OPTIONS -ffp-contract=off
+                                           SKIP_PRECOMPILE_HEADERS ON)
+  endif()
+endfunction()
+
+# khz_precompile_common_headers(<target> [<header>...]): with KHZ_PRECOMPILE_HEADERS, compiles
+# the standard and Eigen headers most of our files include (and any given) once for <target>
+# instead of once per file. Parsing <Eigen/Dense> and <gtest/gtest.h> alone takes about 4 s per
+# file on CI's machine, more than many of our files take to compile; a build has over 400 files.
+# Only outside headers go in, so a file that forgets to include one of ours still fails to
+# compile. One that forgets one of these compiles here; the fuzz build, which precompiles nothing,
+# checks the readers' files, and -DKHZ_PRECOMPILE_HEADERS=OFF checks every file.
+set(KHZ_COMMON_HEADERS
+    <algorithm>
+    <array>
+    <cmath>
+    <cstdint>
+    <filesystem>
+    <functional>
+    <limits>
+    <memory>
+    <string>
+    <string_view>
+    <utility>
+    <vector>
+    <Eigen/Core>
+    <Eigen/Geometry>
+    <Eigen/Sparse>)
+function(khz_precompile_common_headers target)
+  if(KHZ_PRECOMPILE_HEADERS)
+    target_precompile_headers(${target} PRIVATE ${KHZ_COMMON_HEADERS} ${ARGN})
   endif()
 endfunction()
 

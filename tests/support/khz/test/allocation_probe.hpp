@@ -4,6 +4,8 @@
 // allocated, or that a hot path (a time step, a force evaluation) allocates nothing.
 // Include in exactly one source file of a test program (it defines operator new and delete).
 
+#include <khz/test/sanitizers.hpp>
+
 #include <atomic>
 #include <cstddef>
 #include <cstdlib>
@@ -19,7 +21,7 @@ inline std::atomic<std::size_t> allocation_count{0};
 
 // Counting malloc means replacing it, which AddressSanitizer does itself: sanitized builds count
 // operator new only.
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(KHZ_TEST_ADDRESS_SANITIZER)
 namespace khz::test {
 inline constexpr bool allocation_count_sees_malloc = false;
 }
