@@ -1,17 +1,10 @@
+#include <khz/contact/query/detail/cross_matrix.hpp>
 #include <khz/haptic/coupling/coupling_wrench.hpp>
 #include <khz/haptic/coupling/rotation_vector.hpp>
 #include <khz/haptic/coupling/saturation.hpp>
 
 namespace khz::haptic {
-namespace {
-
-Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
-
-}  // namespace
+using contact::detail::cross_matrix;
 
 CouplingWrench coupling_wrench(const Pose& manipulandum, const Pose& simulation,
                                const CouplingSprings& springs) noexcept {

@@ -1,4 +1,6 @@
 #include <khz/contact/query/contact_query.hpp>
+#include <khz/contact/query/detail/cross_matrix.hpp>
+#include <khz/haptic/coupling/rotation_vector.hpp>
 #include <khz/haptic/world/world.hpp>
 
 #include <algorithm>
@@ -59,11 +61,34 @@ struct World::Data {
     Wrench rendered;                  // zero unless the hand's whole chain succeeds
     double penetration_voxels = 0.0;  // deepest over the hand's pairs with a grid
     CycleMetrics metrics;
+    std::uint32_t buttons = 0;  // the device's buttons at the last read
+    Pose previous_grasp;        // the grasp frame at the start of the last cycle
+    // How the grasp frame moved over the last cycle (m/s, rad/s, world).
+    Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+    Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
+  };
+  struct DynamicState {
+    FreeBodyMotion motion;
+    contact::ContactWrench wrench;  // Σ over its queries, about its centre of mass
+    // Σ over its queries of s K, each pair's 6×6 stiffness scaled by s = 1 + β / h where the
+    // pair is damped (DynamicsOptions::contact_damping), and of s K u_o, with u_o the other
+    // body's motion seen as a motion of this one: the step's matrix M − h² Σ s K and its right
+    // side h (f + h Σ s K (u − u_o)) are backward Euler, linearized, for the contact springs and
+    // their damping β K, on the motion relative to what the body touches.
+    Eigen::Matrix<double, 6, 6> stepped_stiffness = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> carried = Eigen::Matrix<double, 6, 1>::Zero();
+    double gyration_radius = 0.0;  // √(trace I / m), m: turning speed as a point speed
+    double still_time = 0.0;       // s below DynamicsOptions::sleep_speed
+    bool asleep = false;
+    int hand = -1;                                              // the hand that grasped it, or −1
+    Eigen::Isometry3d in_hand = Eigen::Isometry3d::Identity();  // held body ← it, while grasped
   };
   struct PairState {
     std::unique_ptr<contact::ContactWorkspace> workspace;
     double voxel = 0.0;  // the field's grid spacing (m), 0 for an analytic field
     std::optional<contact::FrictionOptions> friction;  // set_pair_friction()'s, if given
+    int group = 0;             // the geometric pair: both queries of a pair share it
+    bool had_contact = false;  // points in contact at its last query
   };
 
   std::vector<Body> bodies;
@@ -73,6 +98,57 @@ struct World::Data {
   std::vector<PairState> pair_states;
   std::vector<Eigen::VectorXd> reduced_forces;  // per body, Σ over its pairs (r, or empty)
   contact::ContactOptions contact_options;      // the last given, before per-pair roles
+  std::vector<int> holder;                      // per body: the hand holding it, or −1
+  std::vector<int> dynamic_index;               // per body: its index in `dynamics`, or −1
+  std::vector<DynamicState> dynamics;
+  DynamicsOptions dynamics_options;
+  std::vector<char> group_applied;  // per geometric pair: its reduced forces added this cycle
+
+  DynamicState* dynamic(int body) noexcept {
+    const int index = dynamic_index[static_cast<std::size_t>(body)];
+    return index < 0 ? nullptr : &dynamics[static_cast<std::size_t>(index)];
+  }
+  /// The hand whose wrench a query moving `body` feeds: its holder or the hand that grasped it;
+  /// −1 for a free dynamic body (or a fixed one).
+  int hand_of(int body) const noexcept {
+    const int holding = holder[static_cast<std::size_t>(body)];
+    if (holding >= 0) return holding;
+    const int index = dynamic_index[static_cast<std::size_t>(body)];
+    return index < 0 ? -1 : dynamics[static_cast<std::size_t>(index)].hand;
+  }
+  /// The velocity (m/s) at world point `point` and the angular velocity (rad/s) of `body` now:
+  /// its hand's grasp frame's over the last cycle while held or grasped, a free dynamic body's
+  /// own, zero for a fixed or sleeping body.
+  Eigen::Matrix<double, 6, 1> velocity_at(int body, const Eigen::Vector3d& point) const noexcept {
+    Eigen::Matrix<double, 6, 1> u = Eigen::Matrix<double, 6, 1>::Zero();
+    const int hand = hand_of(body);
+    if (hand >= 0) {
+      const HandState& holding = hands[static_cast<std::size_t>(hand)];
+      u << holding.velocity + holding.angular_velocity.cross(point - holding.grasp_point),
+          holding.angular_velocity;
+      return u;
+    }
+    const int index = dynamic_index[static_cast<std::size_t>(body)];
+    if (index < 0) return u;
+    const FreeBodyMotion& motion = dynamics[static_cast<std::size_t>(index)].motion;
+    const Eigen::Vector3d omega = motion.angular_velocity();
+    u << motion.velocity() + omega.cross(point - motion.centre()), omega;
+    return u;
+  }
+  /// Whether `body` moves this cycle: held, grasped, or dynamic and awake.
+  bool moving(int body) const noexcept {
+    if (hand_of(body) >= 0) return true;
+    const int index = dynamic_index[static_cast<std::size_t>(body)];
+    return index >= 0 && !dynamics[static_cast<std::size_t>(index)].asleep;
+  }
+  /// Whether pair query `index` runs this cycle: its body moves, and the pair is not inside one
+  /// hand's grasp.
+  bool runs(const WorldPair& pair) const noexcept {
+    const int other = pair.body == pair.pointshell ? pair.field : pair.pointshell;
+    const int hand = hand_of(pair.body);
+    if (hand >= 0 && hand_of(other) == hand) return false;
+    return moving(pair.body);
+  }
 
   std::string body_name(int index) const {
     const std::string& name = bodies[static_cast<std::size_t>(index)].name;
@@ -80,6 +156,7 @@ struct World::Data {
   }
 
   bool query(int index) noexcept;
+  void add_to_step(DynamicState& body, int other, const contact::ContactResult& result) noexcept;
 
   /// `options` with the haptic object of pair `index` (the role of its hand's body) and the
   /// pair's own friction, if it has one.
@@ -88,9 +165,8 @@ struct World::Data {
       const std::optional<contact::FrictionOptions>& friction = std::nullopt) const {
     contact::ContactOptions result = options;
     if (friction) result.friction = *friction;
-    result.haptic_object = hands[static_cast<std::size_t>(pair.hand)].hand.body == pair.pointshell
-                               ? contact::HapticObject::pointshell
-                               : contact::HapticObject::distance_field;
+    result.haptic_object = pair.body == pair.pointshell ? contact::HapticObject::pointshell
+                                                        : contact::HapticObject::distance_field;
     return result;
   }
 };
@@ -102,7 +178,12 @@ bool World::Data::query(int index) noexcept {
   contact::ContactFrames frames;
   frames.pointshell = pointshell.pose;
   frames.field = field.pose;
-  frames.grasp_point = hands[static_cast<std::size_t>(pair.hand)].grasp_point;
+  const int hand = hand_of(pair.body);
+  frames.grasp_point =
+      hand >= 0
+          ? hands[static_cast<std::size_t>(hand)].grasp_point
+          : dynamics[static_cast<std::size_t>(dynamic_index[static_cast<std::size_t>(pair.body)])]
+                .motion.centre();
   contact::ContactWorkspace& workspace = *pair_states[static_cast<std::size_t>(index)].workspace;
   // One variant dispatch per pair and cycle; the query itself is compiled per field type.
   const auto with_field = [&](const auto& run) {
@@ -173,10 +254,29 @@ World::World(std::vector<Body> bodies, std::vector<Hand> hands,
                   " has an integrator but neither a deformable pointshell nor a deformed field");
     }
     d.reduced_forces.push_back(Eigen::VectorXd::Zero(r));
+    d.dynamic_index.push_back(-1);
+    if (!body.dynamics) continue;
+    if (r > 0) {
+      throw Error("World: " + d.body_name(i) +
+                  " is dynamic and reduced; dynamic bodies are rigid (no integrator, deformable "
+                  "pointshell or deformed field)");
+    }
+    const BodyDynamics& dynamics = *body.dynamics;
+    try {
+      d.dynamics.push_back(Data::DynamicState{
+          FreeBodyMotion(dynamics.inertia, body.pose, dynamics.velocity, dynamics.angular_velocity),
+          {},
+          Eigen::Matrix<double, 6, 6>::Zero(),
+          Eigen::Matrix<double, 6, 1>::Zero(),
+          std::sqrt(dynamics.inertia.inertia.trace() / dynamics.inertia.mass)});
+    } catch (const Error& error) {
+      throw Error("World: " + d.body_name(i) + ": " + error.what());
+    }
+    d.dynamic_index.back() = static_cast<int>(d.dynamics.size()) - 1;
   }
 
   // Hands: one body each, with a device.
-  std::vector<int> holder(static_cast<std::size_t>(body_count), -1);
+  d.holder.assign(static_cast<std::size_t>(body_count), -1);
   for (std::size_t h = 0; h < hands.size(); ++h) {
     const Hand& hand = hands[h];
     const std::string which = "World: hand " + std::to_string(h);
@@ -184,18 +284,29 @@ World::World(std::vector<Body> bodies, std::vector<Hand> hands,
       throw Error(which + " holds body " + std::to_string(hand.body) + ", but there are " +
                   std::to_string(body_count) + " bodies");
     }
-    if (holder[static_cast<std::size_t>(hand.body)] >= 0) {
+    const int holding = d.holder[static_cast<std::size_t>(hand.body)];
+    if (holding >= 0) {
       throw Error(which + " holds " + d.body_name(hand.body) + ", which hand " +
-                  std::to_string(holder[static_cast<std::size_t>(hand.body)]) + " holds already");
+                  std::to_string(holding) + " holds already");
     }
     if (hand.device == nullptr) throw Error(which + " has no device");
     if (!hand.grasp_in_body.allFinite()) throw Error(which + "'s grasp point is not finite");
+    if (hand.grasp_button < -1 || hand.grasp_button > 31 ||
+        (hand.grasp_button >= 0 && hand.grasp_button == hand.device->options().index_button)) {
+      throw Error(which + "'s grasp button " + std::to_string(hand.grasp_button) +
+                  " must be -1 or a bit index in [0, 31] other than its index button");
+    }
     const Body& body = d.bodies[static_cast<std::size_t>(hand.body)];
     if (!has_pointshell(body) && !has_field(body)) {
       throw Error(which + " holds " + d.body_name(hand.body) +
                   ", which has neither a pointshell nor a distance field to touch with");
     }
-    holder[static_cast<std::size_t>(hand.body)] = static_cast<int>(h);
+    if (body.dynamics) {
+      throw Error(which + " holds " + d.body_name(hand.body) +
+                  ", which is dynamic: a hand holds a body of its own and grasps dynamic ones "
+                  "(Hand::grasp_button, World::grasp())");
+    }
+    d.holder[static_cast<std::size_t>(hand.body)] = static_cast<int>(h);
     // The coupling starts with the simulation object at the body's pose.
     Pose start;
     start.orientation = Eigen::Quaterniond(body.pose.linear());
@@ -208,54 +319,59 @@ World::World(std::vector<Body> bodies, std::vector<Hand> hands,
                                       true,
                                       {},
                                       0.0,
-                                      CycleMetrics(hand.metrics)});
+                                      CycleMetrics(hand.metrics),
+                                      0,
+                                      start});
   }
   d.records.resize(d.hands.size());
 
-  // Pairs: every body pair with a holder, in one geometric assignment (pointshell of one against
-  // the field of the other), queried once per hand holding one of the two.
+  // Pairs: every body pair with a moving body (held or dynamic), in one geometric assignment
+  // (pointshell of one against the field of the other), queried once for each moving body.
+  const auto moves = [&](int body) {
+    return d.holder[static_cast<std::size_t>(body)] >= 0 ||
+           d.bodies[static_cast<std::size_t>(body)].dynamics.has_value();
+  };
+  int groups = 0;
   for (int a = 0; a < body_count; ++a) {
     for (int b = a + 1; b < body_count; ++b) {
-      const int holder_a = holder[static_cast<std::size_t>(a)];
-      const int holder_b = holder[static_cast<std::size_t>(b)];
-      if (holder_a < 0 && holder_b < 0) continue;
+      if (!moves(a) && !moves(b)) continue;
       if (filter && !filter(a, b)) continue;
-      const Body& body_a = d.bodies[static_cast<std::size_t>(a)];
-      const Body& body_b = d.bodies[static_cast<std::size_t>(b)];
-      // The first holder's body touches with its preferred role where it can.
-      const int first = holder_a >= 0 ? a : b;
+      // The first moving body touches with its preferred role where it can.
+      const int first = moves(a) ? a : b;
       const int other = first == a ? b : a;
-      const Body& held = first == a ? body_a : body_b;
-      const Body& against = first == a ? body_b : body_a;
-      const bool held_as_pointshell = has_pointshell(held) && has_field(against);
-      const bool held_as_field = has_field(held) && has_pointshell(against);
-      if (!held_as_pointshell && !held_as_field) continue;
-      const std::optional<contact::HapticObject>& role =
-          d.hands[static_cast<std::size_t>(holder[static_cast<std::size_t>(first)])].hand.role;
+      const Body& mover = d.bodies[static_cast<std::size_t>(first)];
+      const Body& against = d.bodies[static_cast<std::size_t>(other)];
+      const bool mover_as_pointshell = has_pointshell(mover) && has_field(against);
+      const bool mover_as_field = has_field(mover) && has_pointshell(against);
+      if (!mover_as_pointshell && !mover_as_field) continue;
+      const int holding = d.holder[static_cast<std::size_t>(first)];
+      const std::optional<contact::HapticObject> role =
+          holding >= 0 ? d.hands[static_cast<std::size_t>(holding)].hand.role : std::nullopt;
       const bool prefer_pointshell =
           role.value_or(options.haptic_object) == contact::HapticObject::pointshell;
-      const bool pointshell_first = held_as_pointshell && (prefer_pointshell || !held_as_field);
+      const bool pointshell_first = mover_as_pointshell && (prefer_pointshell || !mover_as_field);
       const int pointshell = pointshell_first ? first : other;
       const int field = pointshell_first ? other : first;
       bool applies = true;
-      for (const int holder_index :
-           {holder[static_cast<std::size_t>(first)], holder[static_cast<std::size_t>(other)]}) {
-        if (holder_index < 0) continue;
-        const WorldPair pair{pointshell, field, holder_index, applies};
+      for (const int moving : {first, other}) {
+        if (!moves(moving)) continue;
+        const WorldPair pair{pointshell, field, moving, applies};
         d.pair_states.push_back({make_workspace(d.bodies[static_cast<std::size_t>(pointshell)],
                                                 d.bodies[static_cast<std::size_t>(field)],
                                                 d.pair_options(options, pair)),
                                  voxel_size(d.bodies[static_cast<std::size_t>(field)]),
-                                 std::nullopt});
+                                 std::nullopt, groups});
         d.pairs.push_back(pair);
         applies = false;
       }
+      ++groups;
     }
   }
+  d.group_applied.assign(static_cast<std::size_t>(groups), 0);
   if (d.pairs.empty()) {
     throw Error(
-        "World: no held body can touch another body (a contact needs one body's "
-        "pointshell and the other's distance field, and a hand holding one of them)");
+        "World: no moving body can touch another body (a contact needs one body's pointshell "
+        "and the other's distance field, and one of the two held by a hand or dynamic)");
   }
 }
 
@@ -272,7 +388,8 @@ void World::end_cycle(double now) noexcept {
 void World::step(double now) noexcept {
   Data& d = *m_data;
   const std::size_t hand_count = d.hands.size();
-  // 1–2. Read every device; place every held body at its simulation pose.
+  // 1–2. Read every device (and its grasp button); place every held body at its simulation pose
+  // and the bodies it grasped with it.
   for (std::size_t h = 0; h < hand_count; ++h) {
     Data::HandState& hand = d.hands[h];
     CycleRecord& r = d.records[h];
@@ -280,9 +397,24 @@ void World::step(double now) noexcept {
     r.time = now;
     r.device_valid = hand.hand.device->read(hand.device_state);
     r.manipulandum = hand.device_state.pose;
-    place_held_body(h, hand.coupling.simulation_pose());
+    const Pose& simulation = hand.coupling.simulation_pose();
+    hand.velocity =
+        (simulation.position - hand.previous_grasp.position) / d.dynamics_options.time_step;
+    hand.angular_velocity =
+        rotation_vector(simulation.orientation * hand.previous_grasp.orientation.conjugate()) /
+        d.dynamics_options.time_step;
+    hand.previous_grasp = simulation;
+    if (r.device_valid && hand.hand.grasp_button >= 0) {
+      const std::uint32_t bit = 1u << hand.hand.grasp_button;
+      const std::uint32_t pressed = hand.device_state.buttons & bit;
+      if (pressed != 0 && (hand.buttons & bit) == 0) grasp(static_cast<int>(h));
+      if (pressed == 0 && (hand.buttons & bit) != 0) release(static_cast<int>(h));
+      hand.buttons = hand.device_state.buttons;
+    }
+    place_held_body(h, simulation);
   }
-  // 3. Every pair; each hand's wrench and each body's reduced force summed over its pairs.
+  // 3. Every pair; each hand's and dynamic body's wrench and each body's reduced force summed
+  // over its pairs.
   query_pairs();
   // 4. Each hand's coupling.
   for (std::size_t h = 0; h < hand_count; ++h) {
@@ -301,7 +433,9 @@ void World::step(double now) noexcept {
     hand.rendered = step.rendered;
     r.residual = step.residual;
   }
-  // 5. Each reduced body, once, under its summed reduced force.
+  // 5. Each free dynamic body that is awake.
+  step_dynamic_bodies();
+  // 6. Each reduced body, once, under its summed reduced force.
   bool integrators_ok = true;
   for (std::size_t i = 0; i < d.bodies.size(); ++i) {
     Body& body = d.bodies[i];
@@ -313,7 +447,7 @@ void World::step(double now) noexcept {
       integrators_ok = (*state)->update(body.integrator->coordinates()) && integrators_ok;
     }
   }
-  // 6. Each device gets its rendered wrench (zero unless its whole chain succeeded).
+  // 7. Each device gets its rendered wrench (zero unless its whole chain succeeded).
   for (std::size_t h = 0; h < hand_count; ++h) {
     Data::HandState& hand = d.hands[h];
     CycleRecord& r = d.records[h];
@@ -330,11 +464,72 @@ void World::step(double now) noexcept {
   }
 }
 
+void World::step_dynamic_bodies() noexcept {
+  Data& d = *m_data;
+  const DynamicsOptions& options = d.dynamics_options;
+  for (Data::DynamicState& body : d.dynamics) {
+    if (body.hand >= 0 || body.asleep) continue;
+    const contact::ContactWrench& w = body.wrench;
+    const Eigen::Vector3d force = w.force - options.time_step * body.carried.head<3>();
+    const Eigen::Vector3d torque = w.torque - options.time_step * body.carried.tail<3>();
+    const Eigen::Matrix<double, 6, 6>& stiffness = body.stepped_stiffness;
+    // A step that fails (a non-finite wrench) leaves the body where it was, at rest.
+    if (!body.motion.step(options.time_step, force, torque, stiffness, options.gravity)) {
+      body.motion.set_state(body.motion.pose(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+    }
+    const double speed = std::max(body.motion.velocity().norm(),
+                                  body.motion.angular_velocity().norm() * body.gyration_radius);
+    body.still_time = speed < options.sleep_speed ? body.still_time + options.time_step : 0.0;
+    if (options.sleep_speed > 0.0 && body.still_time >= options.sleep_time) {
+      body.asleep = true;
+      body.motion.set_state(body.motion.pose(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+    }
+  }
+  for (std::size_t i = 0; i < d.bodies.size(); ++i) {
+    if (const Data::DynamicState* body = d.dynamic(static_cast<int>(i))) {
+      if (body->hand < 0) d.bodies[i].pose = body->motion.pose();
+    }
+  }
+}
+
 void World::place_held_body(std::size_t hand, const Pose& grasp) noexcept {
-  Data::HandState& held = m_data->hands[hand];
+  Data& d = *m_data;
+  Data::HandState& held = d.hands[hand];
   held.grasp_point = grasp.position;
-  m_data->bodies[static_cast<std::size_t>(held.hand.body)].pose =
-      held_body_pose(grasp, held.hand.grasp_in_body);
+  Eigen::Isometry3d& pose = d.bodies[static_cast<std::size_t>(held.hand.body)].pose;
+  pose = held_body_pose(grasp, held.hand.grasp_in_body);
+  for (std::size_t i = 0; i < d.bodies.size(); ++i) {
+    const Data::DynamicState* body = d.dynamic(static_cast<int>(i));
+    if (body != nullptr && body->hand == static_cast<int>(hand))
+      d.bodies[i].pose = pose * body->in_hand;
+  }
+}
+
+/// Adds a free dynamic body's query against body `other` to what its step solves with
+/// (DynamicState::stepped_stiffness, carried):
+/// - against a fixed or sleeping body, the contact is damped (β K, DynamicsOptions::
+///   contact_damping): s = 1 + β / h;
+/// - against a free dynamic body that is awake, the other's motion is taken as given (u_o; the
+///   two steps are solved apart, which keeps their momentum to about 1 % over a collision at
+///   1 kHz), undamped: damping would add as much again to that error;
+/// - against a held or grasped body, its motion is not taken into account and the contact is
+///   undamped: the coupling's simulation pose moves too roughly from cycle to cycle to be
+///   differentiated into a velocity that stiffness or damping may multiply.
+void World::Data::add_to_step(DynamicState& body, int other,
+                              const contact::ContactResult& result) noexcept {
+  Eigen::Matrix<double, 6, 6> stiffness;
+  stiffness << result.force_by_translation, result.force_by_rotation, result.torque_by_translation,
+      result.torque_by_rotation;
+  const DynamicState* touched = dynamic(other);
+  if (hand_of(other) >= 0) {
+    body.stepped_stiffness += stiffness;
+  } else if (touched != nullptr && !touched->asleep) {
+    body.stepped_stiffness += stiffness;
+    body.carried += stiffness * velocity_at(other, body.motion.centre());
+  } else {
+    body.stepped_stiffness +=
+        (1.0 + dynamics_options.contact_damping / dynamics_options.time_step) * stiffness;
+  }
 }
 
 bool World::query_pairs() noexcept {
@@ -344,31 +539,70 @@ bool World::query_pairs() noexcept {
     hand.contact_ok = true;
     hand.penetration_voxels = 0.0;
   }
+  for (Data::DynamicState& body : d.dynamics) {
+    body.wrench = contact::ContactWrench{};
+    body.stepped_stiffness.setZero();
+    body.carried.setZero();
+  }
   for (Eigen::VectorXd& force : d.reduced_forces) force.setZero();
+  std::fill(d.group_applied.begin(), d.group_applied.end(), 0);
   bool all_ok = true;
   for (std::size_t p = 0; p < d.pairs.size(); ++p) {
     const WorldPair& pair = d.pairs[p];
-    Data::HandState& hand = d.hands[static_cast<std::size_t>(pair.hand)];
+    Data::PairState& state = d.pair_states[p];
+    if (!d.runs(pair)) continue;
+    const int hand_index = d.hand_of(pair.body);
+    Data::HandState* hand =
+        hand_index >= 0 ? &d.hands[static_cast<std::size_t>(hand_index)] : nullptr;
+    Data::DynamicState* dynamic = hand == nullptr ? d.dynamic(pair.body) : nullptr;
     if (!d.query(static_cast<int>(p))) {
-      hand.contact_ok = false;
+      if (hand != nullptr) hand->contact_ok = false;
       all_ok = false;
       continue;
     }
-    const contact::ContactResult& result = d.pair_states[p].workspace->result();
-    hand.wrench.accumulate(result);
-    if (d.pair_states[p].voxel > 0.0) {
-      hand.penetration_voxels = std::max(
-          hand.penetration_voxels, result.statistics.deepest_penetration / d.pair_states[p].voxel);
+    const contact::ContactResult& result = state.workspace->result();
+    // A sleeping body wakes when a moving one touches it or stops touching it.
+    const bool contact = result.statistics.points_in_contact > 0;
+    const int other = pair.body == pair.pointshell ? pair.field : pair.pointshell;
+    if (Data::DynamicState* touched = d.dynamic(other);
+        touched != nullptr && touched->asleep && (contact || state.had_contact)) {
+      touched->asleep = false;
+      touched->still_time = 0.0;
     }
-    if (!pair.applies_reduced_forces) continue;
+    state.had_contact = contact;
+    if (hand != nullptr) {
+      hand->wrench.accumulate(result);
+      if (state.voxel > 0.0) {
+        hand->penetration_voxels =
+            std::max(hand->penetration_voxels, result.statistics.deepest_penetration / state.voxel);
+      }
+    } else if (dynamic != nullptr) {
+      dynamic->wrench.accumulate(result);
+      d.add_to_step(*dynamic, other, result);
+    }
+    char& applied = d.group_applied[static_cast<std::size_t>(state.group)];
+    if (applied != 0) continue;
+    applied = 1;
     Eigen::VectorXd& on_pointshell = d.reduced_forces[static_cast<std::size_t>(pair.pointshell)];
     if (on_pointshell.size() > 0) on_pointshell += result.pointshell_reduced_force;
     Eigen::VectorXd& on_field = d.reduced_forces[static_cast<std::size_t>(pair.field)];
     if (on_field.size() > 0) on_field += result.field_reduced_force;
   }
+  // The weight of each grasped body, on its hand about the grasp point: T = r × m g, and turning
+  // the hand by Δω turns r, so ∂T/∂ω = [m g]× [r]×.
+  for (std::size_t i = 0; i < d.bodies.size(); ++i) {
+    const Data::DynamicState* body = d.dynamic(static_cast<int>(i));
+    if (body == nullptr || body->hand < 0) continue;
+    Data::HandState& hand = d.hands[static_cast<std::size_t>(body->hand)];
+    const Eigen::Vector3d weight = body->motion.inertia().mass * d.dynamics_options.gravity;
+    const Eigen::Vector3d arm = d.bodies[i].pose * body->motion.inertia().centre - hand.grasp_point;
+    hand.wrench.force += weight;
+    hand.wrench.torque += arm.cross(weight);
+    hand.wrench.torque_by_rotation +=
+        contact::detail::cross_matrix(weight) * contact::detail::cross_matrix(arm);
+  }
   return all_ok;
 }
-
 bool World::probe(std::span<const Pose> grasps) noexcept {
   if (grasps.size() != m_data->hands.size()) return false;
   for (std::size_t h = 0; h < grasps.size(); ++h) place_held_body(h, grasps[h]);
@@ -402,6 +636,76 @@ CycleMetricsSummary World::metrics(int index) const noexcept {
 }
 void World::reset_metrics() noexcept {
   for (Data::HandState& hand : m_data->hands) hand.metrics.clear();
+}
+
+void World::set_dynamics(const DynamicsOptions& options) {
+  options.validate();
+  m_data->dynamics_options = options;
+}
+const DynamicsOptions& World::dynamics() const noexcept { return m_data->dynamics_options; }
+const FreeBodyMotion* World::motion(int index) const noexcept {
+  if (index < 0 || index >= static_cast<int>(m_data->bodies.size())) return nullptr;
+  const Data::DynamicState* body = m_data->dynamic(index);
+  return body == nullptr ? nullptr : &body->motion;
+}
+bool World::asleep(int index) const noexcept {
+  const FreeBodyMotion* body = motion(index);
+  return body != nullptr && m_data->dynamic(index)->asleep;
+}
+const contact::ContactWrench& World::body_wrench(int index) const noexcept {
+  static const contact::ContactWrench none;
+  return motion(index) == nullptr ? none : m_data->dynamic(index)->wrench;
+}
+int World::hand_of(int index) const noexcept {
+  if (index < 0 || index >= static_cast<int>(m_data->bodies.size())) return -1;
+  return m_data->hand_of(index);
+}
+
+int World::grasp(int hand) noexcept {
+  Data& d = *m_data;
+  if (hand < 0 || hand >= static_cast<int>(d.hands.size())) return -1;
+  const int held = d.hands[static_cast<std::size_t>(hand)].hand.body;
+  int chosen = -1;
+  double hardest = 0.0;
+  for (std::size_t p = 0; p < d.pairs.size(); ++p) {
+    const WorldPair& pair = d.pairs[p];
+    if (pair.body != held) continue;
+    const int other = pair.field == held ? pair.pointshell : pair.field;
+    const Data::DynamicState* body = d.dynamic(other);
+    if (body == nullptr || body->hand >= 0 || !d.pair_states[p].had_contact) continue;
+    const double force = d.pair_states[p].workspace->result().force.norm();
+    if (chosen < 0 || force > hardest) {
+      chosen = other;
+      hardest = force;
+    }
+  }
+  if (chosen < 0) return -1;
+  Data::DynamicState& body = *d.dynamic(chosen);
+  body.hand = hand;
+  body.asleep = false;
+  body.still_time = 0.0;
+  body.in_hand = d.bodies[static_cast<std::size_t>(held)].pose.inverse(Eigen::Isometry) *
+                 d.bodies[static_cast<std::size_t>(chosen)].pose;
+  return chosen;
+}
+
+int World::release(int hand) noexcept {
+  Data& d = *m_data;
+  if (hand < 0 || hand >= static_cast<int>(d.hands.size())) return 0;
+  int released = 0;
+  for (std::size_t i = 0; i < d.bodies.size(); ++i) {
+    Data::DynamicState* body = d.dynamic(static_cast<int>(i));
+    if (body == nullptr || body->hand != hand) continue;
+    // It leaves moving as the hand's body moved over the last cycle.
+    const Eigen::Matrix<double, 6, 1> u =
+        d.velocity_at(static_cast<int>(i), d.bodies[i].pose * body->motion.inertia().centre);
+    body->motion.set_state(d.bodies[i].pose, u.head<3>(), u.tail<3>());
+    body->hand = -1;
+    body->asleep = false;
+    body->still_time = 0.0;
+    ++released;
+  }
+  return released;
 }
 
 void World::reset_contact() noexcept {
@@ -448,7 +752,7 @@ void World::set_pair_friction(int body_a, int body_b, const contact::FrictionOpt
   }
   if (!found) {
     throw Error("World::set_pair_friction: " + d.body_name(body_a) + " and " + d.body_name(body_b) +
-                " never touch (no hand holds either, or their roles do not meet)");
+                " never touch (neither is held or dynamic, or their roles do not meet)");
   }
 }
 

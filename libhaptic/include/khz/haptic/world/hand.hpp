@@ -29,6 +29,10 @@ struct Hand {
   /// The role the held body touches with where both would do (it has a pointshell and a field,
   /// and so has the other body): unset, the World's ContactOptions::haptic_object.
   std::optional<contact::HapticObject> role;
+  /// Bit index of the device button that grasps: pressed, the hand grasps the dynamic body its
+  /// body touches (World::grasp()); let go, it releases it. −1: none (grasp() may still be
+  /// called). Must differ from the safety layer's index button.
+  int grasp_button = -1;
   /// When the hand's manipulandum counts as still, for its jitter figures (World::metrics()).
   CycleMetricsOptions metrics;
 };

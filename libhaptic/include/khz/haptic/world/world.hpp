@@ -9,6 +9,8 @@
 #include <khz/haptic/world/body.hpp>
 #include <khz/haptic/world/cycle_metrics.hpp>
 #include <khz/haptic/world/cycle_record.hpp>
+#include <khz/haptic/world/dynamics_options.hpp>
+#include <khz/haptic/world/free_body_motion.hpp>
 #include <khz/haptic/world/hand.hpp>
 
 #include <functional>
@@ -23,39 +25,49 @@ namespace khz::haptic {
 using PairFilter = std::function<bool(int body_a, int body_b)>;
 
 /// One queried pair: body `pointshell`'s pointshell against body `field`'s distance field, the
-/// wrench taken on `hand`'s body (one of the two). A pair of two held bodies is queried twice,
-/// once for each hand.
+/// wrench taken on `body` (one of the two, a moving one). A pair of two moving bodies (held or
+/// dynamic) is queried twice, once for each.
 struct WorldPair {
   int pointshell = 0;  ///< Body index.
   int field = 0;       ///< Body index.
-  int hand = 0;        ///< The hand whose body the wrench acts on.
-  /// Whether this query's reduced forces step the deformable bodies (false for the second query
-  /// of a pair of held bodies: its contact is the first one's).
+  /// The body whose wrench this query gives: a held body (its hand feels it), a free dynamic
+  /// body (it moves under it) or a dynamic body a hand grasped (that hand feels it).
+  int body = 0;
+  /// Whether this is its pair's first query (false for the second query of a pair of two moving
+  /// bodies): pictures draw each pair once. The reduced forces of a pair step its deformable
+  /// bodies from the first of its queries that ran in the cycle.
   bool applies_reduced_forces = true;
 };
 
-/// N bodies (rigid or reduced, each with a pointshell and/or a distance field), any number of
-/// hands (each a device, its safety layer and its virtual coupling holding one body), and the
-/// pairs between them. Every cycle:
+/// N bodies (rigid or reduced, each with a pointshell and/or a distance field; fixed, held or
+/// dynamic), any number of hands (each a device, its safety layer and its virtual coupling holding
+/// one body), and the pairs between them. Every cycle:
 ///
-///   1. each hand's device is read (SafeDevice::read()) into its manipulandum pose;
-///   2. each held body is placed at its coupling's simulation pose;
+///   1. each hand's device is read (SafeDevice::read()) into its manipulandum pose; a hand with a
+///      Hand::grasp_button grasps when it is pressed and releases when it is let go (grasp());
+///   2. each held body is placed at its coupling's simulation pose, and each grasped body with it;
 ///   3. every pair is queried (one contact::ContactWorkspace each, allocated here), and each
-///      hand's wrench is the sum over its pairs (contact::ContactWrench::accumulate(): every
-///      pair's wrench is about the hand's grasp point and for the motion of its body);
+///      hand's wrench is the sum over its pairs, and those of the bodies it grasped, plus their
+///      weight (contact::ContactWrench::accumulate(): all about the hand's grasp point and for the
+///      motion of its body); each free dynamic body's wrench is the sum over its pairs, about its
+///      centre of mass;
 ///   4. each hand's coupling steps under its manipulandum and wrench (§4.1–§4.10);
-///   5. each reduced body is stepped once under the sum of its reduced contact forces over all
+///   5. each free dynamic body that is awake steps under gravity and its wrench
+///      (FreeBodyMotion, DynamicsOptions), and sleeps once it has been still for a while;
+///   6. each reduced body is stepped once under the sum of its reduced contact forces over all
 ///      its pairs (§3.6.1), and a deformed field is then update()d to its new q (§3.12);
-///   6. each device is written the coupling's rendered wrench (zero when anything in its chain
+///   7. each device is written the coupling's rendered wrench (zero when anything in its chain
 ///      failed), the hand's CycleMetrics records the cycle, and its watchdog closes the cycle.
 ///
-/// Pairs: for every held body h and every other body b, one pair when one's pointshell can meet
-/// the other's field (h touches with its Hand::role, or else ContactOptions::haptic_object, when
-/// both ways are possible), unless the filter says no. A pair of two held bodies is queried once
-/// for each hand (each hand feels its own body's wrench, with its own gradients); bodies that no
-/// hand holds do not touch one another (they do not move). A hand whose device read fails renders
-/// zero and its body stays where it was, still touching the others; a query that refuses its input
-/// (e.g. a non-finite pose) counts for nothing that cycle and makes its hand render zero.
+/// Pairs: for every moving body m (held or dynamic) and every other body b, one pair when one's
+/// pointshell can meet the other's field (m touches with its Hand::role, or else
+/// ContactOptions::haptic_object, when both ways are possible), unless the filter says no. A pair
+/// of two moving bodies is queried once for each (each feels its own wrench, with its own
+/// gradients); fixed bodies do not touch one another. A pair inside one hand's grasp (its body
+/// and a body it grasped, or two it grasped) is not queried. A hand whose device read fails
+/// renders zero and its body stays where it was, still touching the others; a query that refuses
+/// its input (e.g. a non-finite pose) counts for nothing that cycle and makes its hand render
+/// zero (or its dynamic body move under gravity alone).
 ///
 /// cycle() allocates nothing, takes no lock and throws nothing; the constructor and the setters
 /// may. Not copyable or movable (the parts refer to one another); one thread runs the cycles.
@@ -67,9 +79,10 @@ class KHZ_HAPTIC_API World {
   ///        held body prefers when its hand does not say, see above).
   /// @param filter which body pairs may touch (all when empty).
   /// @throws Error naming the body or hand: a hand's body index out of range or held twice, a
-  ///         hand without a device, a held body with neither role, a reduced body without an
-  ///         integrator of its tree's or field's r, invalid coupling or contact options, or no
-  ///         pair at all.
+  ///         hand without a device, a held body with neither role, a held body that is dynamic
+  ///         (grasp it instead), a dynamic body that is reduced or whose inertia fails
+  ///         RigidInertia::validate(), a reduced body without an integrator of its tree's or
+  ///         field's r, invalid coupling or contact options, or no pair at all.
   World(std::vector<Body> bodies, std::vector<Hand> hands, const contact::ContactOptions& options,
         PairFilter filter = {});
   ~World();
@@ -122,6 +135,32 @@ class KHZ_HAPTIC_API World {
   ///         wrench then counts only the pairs that answered).
   bool probe(std::span<const Pose> grasps) noexcept;
 
+  /// Gives the dynamic bodies new settings (the defaults until then).
+  /// @throws Error as DynamicsOptions::validate().
+  void set_dynamics(const DynamicsOptions& options);
+  const DynamicsOptions& dynamics() const noexcept;
+  /// The motion of dynamic body `index` (its pose, velocities, energy and momentum), or null
+  /// when the body is not dynamic. While a hand grasps it, it is where the hand put it and its
+  /// velocities are those it had when grasped.
+  const FreeBodyMotion* motion(int index) const noexcept;
+  /// Whether dynamic body `index` sleeps (false for any other body).
+  bool asleep(int index) const noexcept;
+  /// Dynamic body `index`'s contact wrench of the last cycle about its centre of mass (zero
+  /// while a hand grasps it, or for a body that is not dynamic).
+  const contact::ContactWrench& body_wrench(int index) const noexcept;
+  /// Hand `hand` grasps the free dynamic body its body touches hardest (the largest contact
+  /// force in the last cycle or probe()): from now on that body rides with the hand's body at
+  /// their present relative pose, its contacts and weight are part of the hand's wrench, and
+  /// the pair between the two is not queried.
+  /// @return the grasped body's index; −1 if the hand touches no free dynamic body, or `hand`
+  ///         is out of range. Allocates nothing.
+  int grasp(int hand) noexcept;
+  /// Hands every body hand `hand` grasped back to dynamics, moving as the hand's body moved over
+  /// the last cycle. @return how many it released (0 for a hand out of range).
+  int release(int hand) noexcept;
+  /// The hand that holds or grasped body `index`, or −1.
+  int hand_of(int index) const noexcept;
+
   /// Forgets every pair's temporal coherence and level of detail (after a jump of a body).
   void reset_contact() noexcept;
   /// Replaces every pair's contact options (and resets them). The pairs stay as built.
@@ -146,7 +185,9 @@ class KHZ_HAPTIC_API World {
   void begin_cycle(double deadline) noexcept;
   void step(double now) noexcept;
   void end_cycle(double now) noexcept;
-  /// Places hand h's body at grasp frame `grasp`.
+  /// Steps every free dynamic body that is awake, and puts it to sleep once it is still.
+  void step_dynamic_bodies() noexcept;
+  /// Places hand h's body at grasp frame `grasp`, and the bodies it grasped with it.
   void place_held_body(std::size_t hand, const Pose& grasp) noexcept;
   /// Queries every pair into its hand's wrench and each body's reduced force; false if any
   /// query refused (that hand's contact_ok is then false).
