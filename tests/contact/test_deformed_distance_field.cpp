@@ -516,8 +516,10 @@ double jump_at_switch(double a, double b, const Value& value, const Changed& cha
 TEST(DeformedDistanceField, ContinuousAcrossNeighbourChangesAlongAPathInX) {
   const Beam& s = beam();
   const PosedBeam posed(0.2);
-  const auto& [state, q, proxies, updated] = posed;
-  ASSERT_TRUE(updated);
+  ASSERT_TRUE(posed.updated);
+  // Named references, not a structured binding: clang 14 cannot capture one in a lambda.
+  const DeformedFieldState& state = posed.state;
+  const ReferenceProxies& proxies = posed.proxies;
   // Past the clamped end, along and through the bent beam, past the tip.
   const Eigen::Vector3d start(-0.1, 0.3, 0.1), end(1.1, 0.0, 0.2);
   const auto point = [&](double t) -> Eigen::Vector3d { return start + t * (end - start); };
