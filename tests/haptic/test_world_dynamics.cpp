@@ -52,11 +52,9 @@ const contact::ImplicitShape& ball_field() {
   return ball;
 }
 
+/// k_C = 2,000 N/m per point, L = 10: 20 kN/m at full contact.
 contact::ContactOptions contact_options() {
-  contact::ContactOptions options;
-  options.haptic_object = contact::HapticObject::pointshell;
-  options.stiffness = 2000.0;
-  return options;
+  return hard_cases::contact_options(contact::HapticObject::pointshell);
 }
 
 /// A uniform 10 cm cube of mass m about its centre.

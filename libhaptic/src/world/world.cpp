@@ -498,10 +498,14 @@ void World::place_held_body(std::size_t hand, const Pose& grasp) noexcept {
   held.grasp_point = grasp.position;
   Eigen::Isometry3d& pose = d.bodies[static_cast<std::size_t>(held.hand.body)].pose;
   pose = held_body_pose(grasp, held.hand.grasp_in_body);
+  // Its grasped bodies ride along, their motion moving as the hand's grasp frame does.
   for (std::size_t i = 0; i < d.bodies.size(); ++i) {
-    const Data::DynamicState* body = d.dynamic(static_cast<int>(i));
-    if (body != nullptr && body->hand == static_cast<int>(hand))
-      d.bodies[i].pose = pose * body->in_hand;
+    Data::DynamicState* body = d.dynamic(static_cast<int>(i));
+    if (body == nullptr || body->hand != static_cast<int>(hand)) continue;
+    d.bodies[i].pose = pose * body->in_hand;
+    const Eigen::Matrix<double, 6, 1> u =
+        d.velocity_at(static_cast<int>(i), d.bodies[i].pose * body->motion.inertia().centre);
+    body->motion.set_state(d.bodies[i].pose, u.head<3>(), u.tail<3>());
   }
 }
 

@@ -140,8 +140,8 @@ class KHZ_HAPTIC_API World {
   void set_dynamics(const DynamicsOptions& options);
   const DynamicsOptions& dynamics() const noexcept;
   /// The motion of dynamic body `index` (its pose, velocities, energy and momentum), or null
-  /// when the body is not dynamic. While a hand grasps it, it is where the hand put it and its
-  /// velocities are those it had when grasped.
+  /// when the body is not dynamic. While a hand grasps it, it is where the hand put it, moving
+  /// as the hand's grasp frame moved over the last cycle.
   const FreeBodyMotion* motion(int index) const noexcept;
   /// Whether dynamic body `index` sleeps (false for any other body).
   bool asleep(int index) const noexcept;
