@@ -371,7 +371,7 @@ TEST(World, APairFilterLeavesPairsOut) {
   EXPECT_EQ(world.pairs()[0].field, 1);
   EXPECT_TRUE(throws_with_message<Error>(
       [&] { World none(bodies, {hand}, contact_options(), [](int, int) { return false; }); },
-      "no held body can touch another body"));
+      "no moving body can touch another body"));
 }
 
 // Per-pair friction (World::set_pair_friction, contact::FrictionOptions): a hand presses the

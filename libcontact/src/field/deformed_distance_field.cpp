@@ -576,9 +576,12 @@ double blend_above(const BlendStencil& b, const DistanceGrid& grid, double slope
     farthest = std::max(farthest, apart);
   }
   // Less the rounding of the exact blend (a weighted mean of values no larger in magnitude than
-  // |d_1| + slope · farthest), so that the bound never exceeds the value distance() computes.
-  const double rounding =
-      32.0 * std::numeric_limits<double>::epsilon() * (std::abs(first) + slope * farthest);
+  // |d_1| + slope · farthest) and of each value's interpolation (from corners within slope · 3h
+  // of it), so that the bound never exceeds the value distance() computes. Without the second
+  // term the bound came out 20 ulps above the value in a clang build for the x86-64 baseline.
+  const double corners = slope * 3.0 * grid.geometry().spacing;
+  const double rounding = 32.0 * std::numeric_limits<double>::epsilon() *
+                          (std::abs(first) + slope * farthest + corners);
   const double bound = first - slope * spread * b.inverse_sum - rounding;
   if (inside && bound > threshold) return bound;
   // The exact blend, through blend()'s sum, so that the value is the same bit for bit.
