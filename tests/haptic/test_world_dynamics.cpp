@@ -178,11 +178,9 @@ CouplingOptions coupling_options() {
   return options;
 }
 
+/// Hand 0 holding body 0 through `hand`'s safety layer, grasping with button 0.
 Hand hand_holding_body_0(SetHand& hand) {
-  Hand holding;
-  holding.body = 0;
-  holding.device = &hand.safe;
-  holding.coupling = coupling_options();
+  Hand holding = hard_cases::holding_body_0(hand.safe, coupling_options());
   holding.grasp_button = 0;
   return holding;
 }
