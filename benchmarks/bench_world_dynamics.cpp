@@ -77,7 +77,7 @@ struct Rig {
     // The held peg is pressed 0.2 mm into the plate, about what the dynamic one's weight does.
     set_hand(which == Case::held ? start - Eigen::Vector3d(0, 0, 2e-4) : start);
     world = std::make_unique<kh::World>(bodies, std::vector<kh::Hand>{hand}, kc::ContactOptions{});
-    for (const int other : {0, 2}) world->set_pair_friction(1, other, {0.5, 0.4, 1.0});
+    for (const int other : {0, 2}) world->set_pair_friction(1, other, {0.5, 0.4, 1e-4});
     kh::DynamicsOptions options;
     if (which == Case::dynamic) options.sleep_speed = 0.0;  // stays awake
     world->set_dynamics(options);

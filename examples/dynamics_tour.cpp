@@ -68,7 +68,7 @@ int main() {
   move_to(above_peg);
   kh::World world(bodies, {hand}, kc::ContactOptions{});
   // Friction between the peg and everything it rests on or is held by (μ_s 0.5, μ_k 0.4).
-  for (const int other : {0, 1, 3}) world.set_pair_friction(2, other, {0.5, 0.4, 1.0});
+  for (const int other : {0, 1, 3}) world.set_pair_friction(2, other, {0.5, 0.4, 1e-4});
   std::printf("peg: %.1f g; t (s), peg centre x, z (mm), asleep, hand's force z (N), grasped\n",
               peg.mass * 1e3);
 

@@ -117,7 +117,7 @@ const OptionTable<contact::FrictionOptions>& option_table() {
   static const OptionTable<O> table{
       number("static", &O::static_coefficient, at_least(0.0)),
       number("kinetic", &O::kinetic_coefficient, at_least(0.0)),
-      number("stiffness_ratio", &O::stiffness_ratio, above(0.0)),
+      number("stick_distance", &O::stick_distance, above(0.0)),
   };
   return table;
 }

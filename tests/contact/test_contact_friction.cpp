@@ -66,14 +66,14 @@ TEST(ContactFriction, FlatPatchSticksUpToTheStaticLimitThenSlidesAtTheKineticOne
   const PointTree patch = flat_patch(n);
   const ImplicitShape floor = ground();
   ContactOptions options = friction_options(0.5, 0.3);
-  options.friction.stiffness_ratio = 2.0;
+  options.friction.stick_distance = 2e-4;
   options.haptic_object = HapticObject::pointshell;
   const double k = options.stiffness;
-  const double k_t = options.friction.stiffness_ratio * k;
+  const double k_t = 0.5 * k * depth / options.friction.stick_distance;  // μ_s |f_n| / δ
   const double points = n * n;
   const double normal = points * k * depth;  // |F_n| of the whole patch
-  // Stuck while k_t Δ ≤ μ_s k d per point: Δ ≤ μ_s d / ratio = 0.25 mm.
-  const double breakaway = 0.5 * depth / options.friction.stiffness_ratio;
+  // Stuck while k_t Δ ≤ μ_s k d per point: Δ ≤ δ.
+  const double breakaway = options.friction.stick_distance;
 
   ContactWorkspace workspace(patch, options);
   ASSERT_TRUE(query_contact(patch, floor, patch_frames(depth, Eigen::Vector3d::Zero()), workspace));
@@ -106,14 +106,14 @@ TEST(ContactFriction, FlatPatchSticksUpToTheStaticLimitThenSlidesAtTheKineticOne
       Eigen::Vector2d(0.01, 0.002) - Eigen::Vector2d(1.01 * breakaway, 0);
   EXPECT_GT(-slid.head<2>().normalized().dot(motion.normalized()), 0.99);
 
-  // A step back less than the kinetic spring's stretch (μ_k d / ratio = 0.15 mm): it sticks
+  // A step back less than the kinetic spring's stretch (μ_k δ / μ_s = 0.12 mm): it sticks
   // again, the pull now the spring's, smaller than the kinetic limit.
   const Eigen::Vector3d dragged = -slid.normalized();  // the anchors trail the points along it
   const Eigen::Vector3d back = Eigen::Vector3d(0.01, 0.002, 0.0) - 0.5e-4 * dragged;
   ASSERT_TRUE(query_contact(patch, floor, patch_frames(depth, back), workspace));
   EXPECT_EQ(workspace.result().statistics.points_sliding, 0);
   EXPECT_NEAR(workspace.result().force.head<2>().norm(),
-              points * k_t * (0.3 * depth / 2.0 - 0.5e-4), 1e-9 * normal);
+              points * k_t * (0.3 / 0.5 * breakaway - 0.5e-4), 1e-9 * normal);
 
   // Lifted off, then pressed again: the anchors are gone, nothing pulls sideways.
   ASSERT_TRUE(query_contact(patch, floor, patch_frames(-0.01, back), workspace));
@@ -121,6 +121,40 @@ TEST(ContactFriction, FlatPatchSticksUpToTheStaticLimitThenSlidesAtTheKineticOne
   EXPECT_EQ(workspace.friction_state(0), FrictionState::none);
   ASSERT_TRUE(query_contact(patch, floor, patch_frames(depth, back), workspace));
   EXPECT_NEAR(workspace.result().force.head<2>().norm(), 0.0, 1e-15);
+}
+
+// The patch pressed into a floor tilted about x, so that its rows along x are pressed from 1.8
+// down to 0.2 mm deep, then pushed along x (keeping every depth): every point gives the same
+// distance before it slides, so the patch sticks up to μ_s times its whole normal force and breaks
+// loose there, however unevenly the load is shared (the reference: μ_s Σ k |d| over the points,
+// from their depths).
+TEST(ContactFriction, AnUnevenlyLoadedPatchBreaksLooseAtTheStaticLimitOfItsWholeLoad) {
+  constexpr int n = 5;
+  const PointTree patch = flat_patch(n);
+  const double tilt = 0.04;  // rad: the floor rises 0.4 mm per 1 cm along y
+  const ImplicitShape floor = HalfSpace(Eigen::Vector3d(0.0, std::sin(tilt), std::cos(tilt)), 0.0);
+  ContactOptions options = friction_options(0.5, 0.3);
+  options.haptic_object = HapticObject::pointshell;
+  double normal = 0.0;
+  for (int j = 0; j < n; ++j) {
+    normal += n * options.stiffness * (1.8e-3 * std::cos(tilt) - 0.01 * j * std::sin(tilt));
+  }
+  ContactWorkspace workspace(patch, options);
+  ASSERT_TRUE(
+      query_contact(patch, floor, patch_frames(1.8e-3, Eigen::Vector3d::Zero()), workspace));
+  ASSERT_EQ(workspace.result().statistics.points_in_contact, n * n);
+  ASSERT_NEAR(workspace.result().force.z(), normal, 1e-12 * normal);
+  double largest = 0.0;
+  for (double slide = 0.0; slide < 3.0 * options.friction.stick_distance; slide += 0.5e-6) {
+    ASSERT_TRUE(query_contact(patch, floor, patch_frames(1.8e-3, {slide, 0.0, 0.0}), workspace));
+    largest = std::max(largest, -workspace.result().force.x());
+    if (slide < 0.99 * options.friction.stick_distance) {
+      EXPECT_EQ(workspace.result().statistics.points_sliding, 0) << slide;
+    }
+  }
+  EXPECT_NEAR(largest, 0.5 * normal, 0.01 * 0.5 * normal);
+  EXPECT_EQ(workspace.result().statistics.points_sliding, n * n);
+  EXPECT_NEAR(-workspace.result().force.x(), 0.3 * normal, 1e-9 * normal);
 }
 
 // Lifted off, the query stops at level 0 (every deeper node culled): the deeper levels' points
@@ -150,7 +184,7 @@ TEST(ContactFriction, ZeroCoefficientsAreTheFrictionlessQuery) {
   const ImplicitShape floor = ground();
   ContactOptions frictionless = friction_options(0.0, 0.0);
   ContactOptions stiff_but_off = friction_options(0.0, 0.0);
-  stiff_but_off.friction.stiffness_ratio = 3.0;  // no effect while μ_s = 0
+  stiff_but_off.friction.stick_distance = 1e-6;  // no effect while μ_s = 0
   ContactWorkspace a(sphere, frictionless), b(sphere, stiff_but_off);
   for (double x : {0.0, 0.01, 0.03}) {
     const ContactFrames frames = patch_frames(0.05, {x, 0.0, 1.0});
@@ -172,6 +206,7 @@ TEST_P(FrictionGradients, MatchFiniteDifferencesInStickAndInSlip) {
   const ImplicitUnion field(
       {Sphere(Eigen::Vector3d(0.2, 0.0, 0.0), 0.6), Sphere(Eigen::Vector3d(-0.4, 0.3, 0.1), 0.3)});
   ContactOptions options = friction_options(0.6, 0.4);
+  options.friction.stick_distance = 0.01;  // scaled to the 1 m sphere: the small move sticks
   options.haptic_object = GetParam();
   ContactFrames start;
   start.pointshell = pose(Eigen::Vector3d(0.2, -0.1, 0.4), Eigen::Vector3d(0.1, 0.0, -0.2));
@@ -253,7 +288,8 @@ TEST(ContactFriction, AnchorsOfALevelNotRenderedHoldUntilItIsRenderedAgain) {
   const PointTree& sphere = fixture().sphere;
   const ImplicitShape floor = ground();
   ContactOptions full = friction_options(0.8, 0.6);
-  full.scaling_count = 10.0;  // as the scenes run it
+  full.scaling_count = 10.0;            // as the scenes run it
+  full.friction.stick_distance = 0.01;  // scaled to the 1 m sphere: its 0.2 mm moves stick
   const int last = sphere.num_levels() - 1;
   // A shallow press renders every level; a deeper one costs more than the threshold at the last
   // level: set the threshold between the two full traversals.

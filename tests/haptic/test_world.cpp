@@ -416,7 +416,7 @@ TEST(World, PairFrictionDragsAHandSlidingABallAlongTheFloor) {
     EXPECT_EQ(sliding_now, world.pair_result(0).statistics.points_sliding);
     return drag / normal;
   };
-  const contact::FrictionOptions friction{0.5, 0.4, 1.0};
+  const contact::FrictionOptions friction{0.5, 0.4, 1e-4};
   EXPECT_LT(std::abs(drag_over_normal(nullptr)), 0.02);
   const double dragged = drag_over_normal(&friction);
   EXPECT_LT(dragged, -0.35) << "the kinetic drag, against the motion (+x)";
@@ -429,7 +429,7 @@ TEST(World, RefusesPairFrictionForBodiesThatDoNotTouch) {
   bodies.push_back(bodies[1]);
   bodies[2].name = "wall";
   World world(std::move(bodies), {holding_body_0(scripted)}, contact_options());
-  const contact::FrictionOptions friction{0.5, 0.4, 1.0};
+  const contact::FrictionOptions friction{0.5, 0.4, 1e-4};
   world.set_pair_friction(0, 2, friction);
   EXPECT_EQ(world.pair_friction(1).static_coefficient, 0.5);
   EXPECT_EQ(world.pair_friction(0).static_coefficient, 0.0) << "ball–floor keeps the scene's";
@@ -441,7 +441,7 @@ TEST(World, RefusesPairFrictionForBodiesThatDoNotTouch) {
                                          "bodies 0 and 3 (there are 3)"));
   EXPECT_TRUE(throws_with_message<Error>(
       [&] {
-        world.set_pair_friction(0, 1, {0.2, 0.3, 1.0});
+        world.set_pair_friction(0, 1, {0.2, 0.3, 1e-4});
       },
       "friction.kinetic_coefficient must be finite, ≥ 0 and at most"));
   // set_contact_options() keeps a pair's own friction.

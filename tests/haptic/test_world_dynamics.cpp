@@ -1,6 +1,7 @@
 // World's dynamic bodies (issue 20): a box dropped on a floor comes to rest and sleeps without its
 // energy ever growing; two bodies colliding in free space keep their momentum; a hand grasps a
-// box, carries it and lets it fall; a cycle allocates nothing; bad set-ups are refused.
+// box, carries it and lets it fall; a block pushed by a paddle breaks loose at μ_s m g; a cycle
+// allocates nothing; bad set-ups are refused.
 #include "hard_case_fixtures.hpp"
 
 #include <khz/contact/field/implicit_shapes.hpp>
@@ -207,7 +208,7 @@ TEST(WorldDynamics, AHandGraspsCarriesAndReleasesABody) {
   const Eigen::Vector3d above(0.0, 0.0, 2 * half_side + ball_radius + 0.01);
   World world = gripper_box_and_floor(hand, above);
   // With friction, so that the box, landing a little tilted and off-centre, stops sliding.
-  world.set_pair_friction(1, 2, {0.5, 0.4, 1.0});
+  world.set_pair_friction(1, 2, {0.5, 0.4, 1e-4});
   run(world, 400);
   EXPECT_TRUE(world.asleep(1)) << "the box settled on the floor";
   // Lower the gripper 1.5 cm onto the box: it touches (and wakes) the box.
@@ -243,13 +244,65 @@ TEST(WorldDynamics, AHandGraspsCarriesAndReleasesABody) {
   EXPECT_NEAR(world.motion(1)->centre().z(), half_side, 1e-3);
 }
 
+/// A 2 × 6 × 2 cm paddle's surface, points 5 mm apart, symmetric about its centre's planes.
+const contact::PointTree& paddle_shell() {
+  static const contact::PointTree tree = hard_cases::nested_tree(
+      hard_cases::box_pointshell(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.01, 0.03, 0.01), 0.005),
+      16);
+  return tree;
+}
+
+// A held paddle pushes the 1 kg block resting on the floor (μ_s = 0.5, μ_k = 0.4) sideways, its
+// hand moving on at 2 cm/s: the block does not slide (beyond its anchors' give) until the push
+// reaches μ_s m g, within 2 %. The push is horizontal and has no turn about the vertical (the
+// paddle's face is flat and centred), but it is 1.5 cm above the floor, so it shifts the load
+// towards the block's front edge: the contact still breaks loose only at μ_s times its whole
+// normal force.
+TEST(WorldDynamics, ABlockPushedOnAFloorSlidesOnlyAtTheStaticFrictionForce) {
+  SetHand hand;
+  Body tool;
+  tool.name = "paddle";
+  tool.pointshell = &paddle_shell();
+  tool.pose.translation() = Eigen::Vector3d(-half_side - 0.01 - 0.002, 0.0, 0.015);
+  hand.device.set_pose(hard_cases::at(tool.pose.translation()));
+  World world({tool, dynamic_box({0, 0, half_side}, true), fixed_floor()},
+              {hand_holding_body_0(hand)}, contact_options(),
+              [](int a, int b) { return !(a == 0 && b == 2); });
+  world.set_pair_friction(1, 2, {0.5, 0.4, 1e-4});
+  int push = -1, rest = -1;
+  for (std::size_t p = 0; p < world.pairs().size(); ++p) {
+    const WorldPair& pair = world.pairs()[p];
+    if (pair.pointshell == 0 && pair.field == 1) push = static_cast<int>(p);
+    if (pair.pointshell == 1 && pair.field == 2) rest = static_cast<int>(p);
+  }
+  ASSERT_GE(push, 0);
+  ASSERT_GE(rest, 0);
+  run(world, 500);  // the block settles on the floor
+  ASSERT_TRUE(world.asleep(1));
+  const double start = world.motion(1)->centre().x();
+  double largest_push = 0.0;
+  bool slid = false;
+  for (int i = 0; i < 4000 && !slid; ++i) {
+    const Eigen::Vector3d target = tool.pose.translation() + Eigen::Vector3d(0.02 * i * 1e-3, 0, 0);
+    hand.device.set_pose(hard_cases::at(target));
+    world.cycle((500 + i) * 1e-3, (501 + i) * 1e-3, [] { return 0.0; });
+    largest_push = std::max(largest_push, world.pair_result(push).force.x());
+    slid = world.motion(1)->centre().x() - start > 2e-3;
+  }
+  ASSERT_TRUE(slid) << "pushed 8 cm";
+  EXPECT_NEAR(largest_push, 0.5 * 1.0 * g, 0.02 * 0.5 * g);
+  // Pushed along, it slides with its whole bottom at μ_k m g.
+  EXPECT_EQ(world.pair_result(rest).statistics.points_sliding,
+            world.pair_result(rest).statistics.points_in_contact);
+}
+
 // With dynamic bodies, friction and a grasp, a cycle allocates nothing (nor do grasp() and
 // release()).
 TEST(WorldDynamics, ACycleAllocatesNothing) {
   SetHand hand;
   const Eigen::Vector3d on_box(0.0, 0.0, 2 * half_side + ball_radius - 0.005);
   World world = gripper_box_and_floor(hand, on_box);
-  world.set_pair_friction(1, 2, {0.5, 0.4, 1.0});
+  world.set_pair_friction(1, 2, {0.5, 0.4, 1e-4});
   run(world, 200);
   ASSERT_GT(world.body_wrench(1).statistics.points_in_contact, 0);
   test::allocation_count = 0;

@@ -356,7 +356,7 @@ TEST(FrameRenderer, ShowsObjectsContactPointsAndForce) {
 
   // With friction, anchored where it is pressed and then moved 2 mm sideways, the points that
   // slide are drawn apart: the ones the query counted.
-  runtime.world().set_pair_friction(0, 1, {0.5, 0.4, 1.0});
+  runtime.world().set_pair_friction(0, 1, {0.5, 0.4, 1e-4});
   const haptic::Pose held = runtime.world().coupling(0).simulation_pose();
   probe(runtime, held);
   haptic::Pose moved = held;

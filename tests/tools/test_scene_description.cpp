@@ -291,7 +291,7 @@ TEST(SceneDescription, EverySettingReachesItsMember) {
                       "contact_weight": 1.5},
       "coherence": {"enabled": true, "max_translation": 0.001, "max_rotation": 0.01,
                     "max_deformation": 0.002, "max_field_deformation": 0.003, "max_skip": 64},
-      "friction": {"static": 0.4, "kinetic": 0.3, "stiffness_ratio": 2},
+      "friction": {"static": 0.4, "kinetic": 0.3, "stick_distance": 2e-4},
       "pairs": [{"objects": ["wall", "tool"], "friction": {"static": 0.7}}]
     },
     "coupling": {"stiffness": 400, "torque_stiffness": 2, "static_damping": 0.25,
@@ -388,7 +388,7 @@ TEST(SceneDescription, EverySettingReachesItsMember) {
   EXPECT_EQ(s.contact.coherence.max_skip, 64);
   EXPECT_EQ(s.contact.friction.static_coefficient, 0.4);
   EXPECT_EQ(s.contact.friction.kinetic_coefficient, 0.3);
-  EXPECT_EQ(s.contact.friction.stiffness_ratio, 2.0);
+  EXPECT_EQ(s.contact.friction.stick_distance, 2e-4);
   ASSERT_EQ(s.pairs.size(), 1U);
   EXPECT_EQ(s.pairs[0].objects[0], "wall");
   EXPECT_EQ(s.pairs[0].object_indices[0], 1);
@@ -396,7 +396,7 @@ TEST(SceneDescription, EverySettingReachesItsMember) {
   // Keys a pair leaves out keep the scene's friction.
   EXPECT_EQ(s.pairs[0].friction.static_coefficient, 0.7);
   EXPECT_EQ(s.pairs[0].friction.kinetic_coefficient, 0.3);
-  EXPECT_EQ(s.pairs[0].friction.stiffness_ratio, 2.0);
+  EXPECT_EQ(s.pairs[0].friction.stick_distance, 2e-4);
 
   EXPECT_EQ(s.coupling.stiffness, 400.0);
   EXPECT_EQ(s.coupling.static_damping, 0.25);

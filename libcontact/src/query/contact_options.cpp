@@ -50,8 +50,8 @@ void ContactOptions::validate() const {
       "friction.kinetic_coefficient", f.kinetic_coefficient,
       ("finite, ≥ 0 and at most friction.static_coefficient (" +
        std::to_string(f.static_coefficient) + ")"));
-  require(finite_positive(f.stiffness_ratio), "friction.stiffness_ratio", f.stiffness_ratio,
-          "finite and > 0");
+  require(finite_positive(f.stick_distance), "friction.stick_distance", f.stick_distance,
+          "finite and > 0 (m)");
 }
 
 }  // namespace khz::contact

@@ -47,7 +47,7 @@ struct PairDescription {
   /// Their indices in SceneDescription::objects (filled in by the reader).
   std::array<int, 2> object_indices{-1, -1};
   /// "friction": contact::FrictionOptions of this pair as {"static", "kinetic",
-  /// "stiffness_ratio"}; a key left out keeps the scene's "contact.friction" value.
+  /// "stick_distance"}; a key left out keeps the scene's "contact.friction" value.
   contact::FrictionOptions friction;
 };
 
@@ -77,7 +77,7 @@ struct SceneDescription {
   /// max_level, gradient, degradation {mode, warm_threshold, budget_microseconds,
   /// cold_fraction, contact_weight}, coherence {enabled, max_translation, max_rotation,
   /// max_deformation, max_field_deformation, max_skip}, friction {static, kinetic,
-  /// stiffness_ratio}) and its defaults, for every pair. haptic_object is not a key: the reader
+  /// stick_distance}) and its defaults, for every pair. haptic_object is not a key: the reader
   /// sets it to haptic[0].role (each hand's own role is its HapticDescription::role).
   contact::ContactOptions contact;
   /// "contact.pairs": pairs of objects whose contact differs from "contact" (their friction),

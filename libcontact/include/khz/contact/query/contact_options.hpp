@@ -110,11 +110,15 @@ struct KHZ_CONTACT_API CoherenceOptions {
 /// Coulomb friction on the distributed contact (beyond the thesis, which names friction as its
 /// open problem, §5; issue 20). Each point in contact holds a tangential anchor, the spot of the
 /// field object where it stuck (Hayward and Armstrong's adhesion-point model of friction for
-/// haptic rendering, applied per point): the point is pulled back to it by a spring of
-/// stiffness k_t = stiffness_ratio · w k_C in the tangent plane (normal N), and when that pull
-/// would exceed μ |f_n| (f_n = w k_C d N, the point's normal force) the point slides: the pull
-/// is held at μ_k |f_n| and the anchor is dragged along to that distance behind it. A sliding
-/// point uses μ_k, a stuck one μ_s, to decide (so μ_s > μ_k gives stick–slip). The model is a
+/// haptic rendering, applied per point): the point is pulled back to it in the tangent plane
+/// (normal N) by a spring of stiffness k_t = μ_s |f_n| / stick_distance (f_n = w k_C d N, the
+/// point's normal force), and when that pull would exceed μ |f_n| the point slides: the pull is
+/// held at μ_k |f_n| and the anchor is dragged along to that distance behind it. A sliding point
+/// uses μ_k, a stuck one μ_s, to decide (so μ_s > μ_k gives stick–slip). As k_t grows with the
+/// point's load, every point in contact gives the same distance before it slides, so a contact
+/// pushed as a whole breaks loose at μ_s times its whole normal force however unevenly that is
+/// shared (with a spring as stiff at every point, lightly loaded points would slide first and
+/// the contact give way below it). The model is a
 /// spring with no velocity, so it holds a load at rest without drift, needs no rate-dependent
 /// tuning, and its force and all four gradients are exact derivatives (ContactResult says of
 /// what); it only dissipates: a stuck point returns what it stored, a sliding one loses it.
@@ -138,10 +142,11 @@ struct KHZ_CONTACT_API FrictionOptions {
   /// μ_k in [0, μ_s]: the pull of a sliding point, μ_k |f_n|, and the limit under which it
   /// sticks again.
   double kinetic_coefficient = 0.0;
-  /// k_t / k_C > 0: the anchor spring's stiffness per point, relative to the contact stiffness
-  /// (1: a stuck point is as stiff sideways as into the surface, so the L/ℓ bound on stiffness,
-  /// §3.5, holds for friction too).
-  double stiffness_ratio = 1.0;
+  /// δ > 0 (m): how far a stuck point moves along the surface from its anchor before it slides
+  /// (the presliding displacement, Hayward and Armstrong's z_max); the anchor spring's stiffness
+  /// per point is μ_s |f_n| / δ. Smaller is stiffer: a stuck point is as stiff sideways as into
+  /// the surface when δ = μ_s |d|.
+  double stick_distance = 1e-4;
 
   /// Whether friction is on (μ_s > 0).
   bool enabled() const noexcept { return static_coefficient > 0.0; }

@@ -32,10 +32,11 @@ struct FrictionAnchor {
 ///   ∂f/∂ω = (k r)~ − (k (N·s) N)~ − k N wᵀ
 ///   ∂T/∂x = −(k r)~ + k (r × N) Nᵀ
 ///   ∂T/∂ω = k (r × N)(−w)ᵀ + r (k r − f)ᵀ − k (N·s) N rᵀ + (−k r·r + k (N·s)(r·N) + f·r) 1
-/// and, sliding, one more rank-one term [u; r × u] [k u + μ_k c g; k (N·s)(u × N) − k u × r
-/// − μ_k c g × r]ᵀ (the pull's fixed length and its change with depth). So a point adds two
-/// rank-one updates (three sliding), two vectors and three numbers; the cross matrices and the
-/// identity terms are formed once, in jacobian().
+/// and one more rank-one term for the force's change with depth, [v; r × v] [κ g; −κ g × r]ᵀ:
+/// sticking, v = P s and κ = μ_s c / δ (k_t grows with depth); sliding, v = u and κ = μ_k c
+/// (the pull's fixed length), where a sliding point adds [u; r × u] [k u; k (N·s)(u × N)
+/// − k u × r]ᵀ too. So a point adds two rank-one updates (three sliding), two vectors and three
+/// numbers; the cross matrices and the identity terms are formed once, in jacobian().
 struct FrictionSums {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< Σ f_t
   Eigen::Vector3d torque = Eigen::Vector3d::Zero();  ///< Σ r × f_t
@@ -76,13 +77,14 @@ struct FrictionPoint {
 /// `anchored`: whether the anchor holds (FrictionOptions); if not, the point anchors where it is
 /// and adds nothing. World ← field body: `field_rotation`, `field_translation`.
 ///
-/// With s = x − a (a the anchor in the world), P = I − N Nᵀ and k_t = ratio · c, the pull is
-/// k_t P s while ‖k_t P s‖ ≤ μ |f_n| (stick; |f_n| = −c d, μ = μ_k if the point slid last time,
-/// else μ_s), and otherwise μ_k |f_n| u, u = P s / ‖P s‖ (slip; the anchor is moved to
-/// x − μ_k |f_n| / k_t · u). Under the motion of ContactSums (∂x/∂x = −I, ∂x/∂ω = r̃,
+/// With s = x − a (a the anchor in the world), P = I − N Nᵀ, |f_n| = −c d and
+/// k_t = μ_s |f_n| / δ (δ = FrictionOptions::stick_distance), the pull is k_t P s while
+/// ‖k_t P s‖ ≤ μ |f_n|, i.e. ‖P s‖ ≤ μ δ / μ_s (stick; μ = μ_k if the point slid last time, else
+/// μ_s), and otherwise μ_k |f_n| u, u = P s / ‖P s‖ (slip; the anchor is moved to
+/// x − (μ_k / μ_s) δ u). Under the motion of ContactSums (∂x/∂x = −I, ∂x/∂ω = r̃,
 /// ∂N/∂ω = Ñ, ∂d/∂x = −gᵀ, ∂d/∂ω = (g × r)ᵀ, the anchor fixed in the field):
 ///   ∂(P s)/∂x = −P,  ∂(P s)/∂ω = P r̃ − (N·s) Ñ − N (s × N)ᵀ;
-///   stick: ∂f/∂· = k_t ∂(P s)/∂·;
+///   stick: ∂f/∂x = k_t ∂(P s)/∂x + (μ_s c / δ) P s gᵀ, likewise for ω with −(g × r)ᵀ;
 ///   slip:  ∂f/∂x = μ_k c u gᵀ + μ_k |f_n| (I − u uᵀ)/‖P s‖ ∂(P s)/∂x, likewise for ω with
 ///          −(g × r)ᵀ;
 ///   ∂(r × f)/∂x = r̃ ∂f/∂x,  ∂(r × f)/∂ω = r̃ ∂f/∂ω − f̃ r̃.
@@ -104,33 +106,42 @@ inline Eigen::Vector3d add_point_friction(const FrictionPoint& point,
   const Eigen::Vector3d& r = point.lever;
   const Eigen::Vector3d s = point.x - (field_rotation * anchor.position + field_translation);
   const Eigen::Vector3d tangential = s - n.dot(s) * n;  // P s
-  const double tangential_stiffness = friction.stiffness_ratio * point.normal_stiffness;
-  const double normal_force = -point.normal_stiffness * point.depth;  // |f_n|
+  // k_t ∝ |f_n|: every point reaches its cone after the same give δ, so a rigid push breaks
+  // the whole contact loose at μ_s Σ|f_n| however the load is spread over its points.
+  const double stiffness_by_depth =
+      friction.static_coefficient * point.normal_stiffness / friction.stick_distance;  // −∂k_t/∂d
+  const double normal_force = -point.normal_stiffness * point.depth;                   // |f_n|
+  const double tangential_stiffness = stiffness_by_depth * -point.depth;               // k_t
   const double limit =
       (slid_before ? friction.kinetic_coefficient : friction.static_coefficient) * normal_force;
 
   const double length = tangential.norm();
   const double normal_offset = n.dot(s);  // N·s
   double k = tangential_stiffness;
+  // The force's change with depth, [v; r × v] [κ g; −κ g × r]ᵀ (FrictionSums), and sliding,
+  // the pull's fixed length.
+  Eigen::Matrix<double, 6, 1> left, right;
   if (tangential_stiffness * length > limit) {
     // Slides: held at μ_k |f_n| along u, its anchor dragged to that spring length behind it.
     const Eigen::Vector3d u = tangential / length;
     const double pull = friction.kinetic_coefficient * normal_force;
     const double pull_by_depth = friction.kinetic_coefficient * point.normal_stiffness;  // −∂/∂d
     k = pull / length;
-    Eigen::Matrix<double, 6, 1> left, right;
     left << u, r.cross(u);
     right << k * u + pull_by_depth * point.gradient,
         k * (normal_offset * u.cross(n) - u.cross(r)) - pull_by_depth * point.gradient.cross(r);
-    sums.moments.noalias() += left * right.transpose();
-    anchor.position =
-        point.field_point - field_rotation.transpose() * (pull / tangential_stiffness * u);
+    const double spring_length =
+        friction.kinetic_coefficient / friction.static_coefficient * friction.stick_distance;
+    anchor.position = point.field_point - field_rotation.transpose() * (spring_length * u);
     anchor.state = FrictionState::sliding;
     ++sums.sliding;
+  } else {
+    left << tangential, r.cross(tangential);
+    right << stiffness_by_depth * point.gradient, -stiffness_by_depth * point.gradient.cross(r);
   }
+  sums.moments.noalias() += left * right.transpose();
   const Eigen::Vector3d f = k * tangential;
   const Eigen::Vector3d w = n.cross(r) + s.cross(n);
-  Eigen::Matrix<double, 6, 1> left, right;
   left << k * n, k * r.cross(n);
   right << n, -w;
   sums.moments.noalias() += left * right.transpose();
