@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace khz::haptic {
@@ -96,6 +97,36 @@ TEST(SimulatedOperator, TracksKeyframesAndSettlesAtTheTarget) {
   EXPECT_LT(state.pose.orientation.angularDistance(end.orientation), 1e-6);
   EXPECT_LT(state.linear_velocity.norm(), 1e-4);
   EXPECT_LT(device.kinetic_energy() + device.hand_energy(), 1e-10);
+}
+
+// A scripted operator's button presses: held from their keyframe until the next, none before
+// the first; read() reports them at the device's time, and allocates nothing doing so.
+TEST(SimulatedOperator, ReportsTheButtonsItsKeyframesHold) {
+  const std::vector<Keyframe> frames{
+      {0.1, Pose{}, 0u}, {0.2, Pose{}, 1u}, {0.3, Pose{}, 5u}, {0.4, Pose{}, 0u}};
+  const ButtonFunction buttons = keyframe_buttons(frames);
+  ASSERT_TRUE(static_cast<bool>(buttons));
+  EXPECT_EQ(buttons(0.0), 0u);
+  EXPECT_EQ(buttons(0.15), 0u);
+  EXPECT_EQ(buttons(0.2), 1u);
+  EXPECT_EQ(buttons(0.25), 1u);
+  EXPECT_EQ(buttons(0.35), 5u);
+  EXPECT_EQ(buttons(9.0), 0u);
+  EXPECT_FALSE(static_cast<bool>(keyframe_buttons({{0.0, Pose{}}, {1.0, Pose{}}})))
+      << "no presses: no function to call per read";
+
+  SimulatedOperator device(keyframe_target(frames), {}, buttons);
+  device.open();
+  DeviceState state;
+  std::vector<std::uint32_t> read;
+  read.reserve(10);
+  test::allocation_count = 0;
+  for (int i = 0; i < 500; ++i) {
+    device.read(state);
+    if (i % 50 == 25) read.push_back(state.buttons);  // at 25, 75, ... ms
+  }
+  EXPECT_EQ(test::allocation_count.load(), 0u);
+  EXPECT_EQ(read, (std::vector<std::uint32_t>{0, 0, 0, 0, 1, 1, 5, 5, 0, 0}));
 }
 
 /// The hand pushes the device through x = 0 towards a target 2 cm behind a wall rendered as

@@ -5,6 +5,7 @@
 #include "clamp_magnitude.hpp"
 #include "device/pose_math.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -61,7 +62,10 @@ void SimulatedOperatorOptions::validate() const {
                  hand.rotational_damping + device.rotational_damping, "rotation");
 }
 
-TargetFunction keyframe_target(std::vector<Keyframe> keyframes) {
+namespace {
+
+/// Keyframes checked for keyframe_target() and keyframe_buttons(), orientations normalised.
+std::vector<Keyframe> checked_keyframes(std::vector<Keyframe> keyframes) {
   require(!keyframes.empty(), "keyframe_target needs at least one keyframe");
   for (std::size_t i = 0; i < keyframes.size(); ++i) {
     require(std::isfinite(keyframes[i].time) &&
@@ -71,7 +75,13 @@ TargetFunction keyframe_target(std::vector<Keyframe> keyframes) {
                 " has a non-finite or non-increasing time or an invalid pose");
     keyframes[i].pose.orientation.normalize();
   }
-  return [frames = std::move(keyframes)](double time) {
+  return keyframes;
+}
+
+}  // namespace
+
+TargetFunction keyframe_target(std::vector<Keyframe> keyframes) {
+  return [frames = checked_keyframes(std::move(keyframes))](double time) {
     if (!(time > frames.front().time)) return frames.front().pose;
     if (time >= frames.back().time) return frames.back().pose;
     std::size_t i = 1;
@@ -86,8 +96,25 @@ TargetFunction keyframe_target(std::vector<Keyframe> keyframes) {
   };
 }
 
-SimulatedOperator::SimulatedOperator(TargetFunction target, const SimulatedOperatorOptions& options)
-    : m_target(std::move(target)), m_options(options) {
+ButtonFunction keyframe_buttons(std::vector<Keyframe> keyframes) {
+  keyframes = checked_keyframes(std::move(keyframes));
+  if (std::none_of(keyframes.begin(), keyframes.end(),
+                   [](const Keyframe& frame) { return frame.buttons != 0; })) {
+    return {};
+  }
+  return [frames = std::move(keyframes)](double time) {
+    std::uint32_t buttons = 0;
+    for (const Keyframe& frame : frames) {
+      if (frame.time > time) break;
+      buttons = frame.buttons;
+    }
+    return buttons;
+  };
+}
+
+SimulatedOperator::SimulatedOperator(TargetFunction target, const SimulatedOperatorOptions& options,
+                                     ButtonFunction buttons)
+    : m_target(std::move(target)), m_options(options), m_buttons(std::move(buttons)) {
   m_options.validate();
   require(static_cast<bool>(m_target), "the target function is empty");
   m_step = 1.0 / (m_options.capabilities.nominal_rate * m_options.substeps);
@@ -176,7 +203,7 @@ bool SimulatedOperator::read(DeviceState& state) noexcept {
   state.angular_velocity = six_dof ? m_angular_velocity : Eigen::Vector3d::Zero();
   state.has_linear_velocity = true;
   state.has_angular_velocity = six_dof;
-  state.buttons = 0;
+  state.buttons = m_buttons ? m_buttons(m_time) : 0u;
   state.time = m_time;
   state.valid = true;
   if (m_invalid_reads > 0) {

@@ -66,16 +66,28 @@ struct KHZ_HAPTIC_API SimulatedOperatorOptions {
 /// not allocate, throw or block.
 using TargetFunction = std::function<Pose(double time)>;
 
-/// A pose at a time, for keyframe_target().
+/// The buttons the operator holds at a time (s): bit i set while button i is held (e.g. a
+/// World hand's grasp_button). Called once per read(): it must not allocate, throw or block.
+using ButtonFunction = std::function<std::uint32_t(double time)>;
+
+/// A pose at a time, for keyframe_target(), and the buttons held from then on, for
+/// keyframe_buttons().
 struct Keyframe {
   double time = 0.0;
   Pose pose;
+  std::uint32_t buttons = 0;  ///< Held from `time` until the next keyframe's (bit i: button i).
 };
 
 /// A piecewise-linear target through the keyframes (linear position, slerp orientation), held
 /// constant before the first and after the last.
 /// @throws Error if there are no keyframes, times do not strictly increase, or a pose is invalid.
 KHZ_HAPTIC_API TargetFunction keyframe_target(std::vector<Keyframe> keyframes);
+
+/// The buttons of the last keyframe at or before the time (none before the first): a scripted
+/// operator's button presses, e.g. to grasp and release. Empty (no function) when no keyframe
+/// holds a button, so an operator without presses pays nothing per read.
+/// @throws Error as keyframe_target().
+KHZ_HAPTIC_API ButtonFunction keyframe_buttons(std::vector<Keyframe> keyframes);
 
 /// The virtual device + hand. Each read() after the first advances the simulation by one haptic
 /// period T = 1 / capabilities.nominal_rate with the wrench last written (held for the whole
@@ -100,8 +112,10 @@ KHZ_HAPTIC_API TargetFunction keyframe_target(std::vector<Keyframe> keyframes);
 /// inject_stall() makes the next read come late, as after a stalled loop.
 class KHZ_HAPTIC_API SimulatedOperator final : public Device {
  public:
+  /// `buttons`: what read() reports as held (none when empty).
   /// @throws Error as SimulatedOperatorOptions::validate(), or if the target is empty.
-  explicit SimulatedOperator(TargetFunction target, const SimulatedOperatorOptions& options = {});
+  explicit SimulatedOperator(TargetFunction target, const SimulatedOperatorOptions& options = {},
+                             ButtonFunction buttons = {});
 
   /// Resets the time to 0 and the device to its initial pose at rest, no wrench, no faults.
   void open() override;
@@ -144,6 +158,7 @@ class KHZ_HAPTIC_API SimulatedOperator final : public Device {
 
   TargetFunction m_target;
   SimulatedOperatorOptions m_options;
+  ButtonFunction m_buttons;
   double m_step = 0.0;  // integration step h = T / substeps (s)
   bool m_open = false;
   bool m_started = false;  // the first read has happened
