@@ -1,4 +1,5 @@
-// The option tables of libhaptic's structs: the scene's coupling and loop, and its devices.
+// The option tables of libhaptic's structs: the scene's coupling, loop and dynamics, and its
+// devices.
 #include "names.hpp"
 #include "option_tables.hpp"
 
@@ -36,6 +37,19 @@ const OptionTable<haptic::LoopOptions>& option_table() {
       flag("realtime_priority", &O::realtime_priority),
       integer("priority", &O::priority, closed(1, 99)),
       integer("cpu", &O::cpu, at_least(-1)),
+  };
+  return table;
+}
+
+template <>
+const OptionTable<haptic::DynamicsOptions>& option_table() {
+  using O = haptic::DynamicsOptions;
+  // time_step is not a key: it is 1 / loop.rate_hz.
+  static const OptionTable<O> table{
+      vector3("gravity", &O::gravity),
+      number("contact_damping", &O::contact_damping, at_least(0.0)),
+      number("sleep_speed", &O::sleep_speed, at_least(0.0)),
+      number("sleep_time", &O::sleep_time, at_least(0.0)),
   };
   return table;
 }

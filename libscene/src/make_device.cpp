@@ -19,8 +19,9 @@ std::unique_ptr<haptic::Device> make_device(const DeviceDescription& device) {
     case DeviceType::simulated_operator: {
       haptic::SimulatedOperatorOptions options = device.simulated_operator;
       options.capabilities = device.capabilities;
-      return std::make_unique<haptic::SimulatedOperator>(haptic::keyframe_target(device.keyframes),
-                                                         options);
+      return std::make_unique<haptic::SimulatedOperator>(
+          haptic::keyframe_target(device.keyframes), options,
+          haptic::keyframe_buttons(device.keyframes));
     }
     case DeviceType::hardware:
       break;

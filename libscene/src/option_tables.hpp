@@ -15,6 +15,7 @@
 #include <khz/haptic/device/simulated_operator.hpp>
 #include <khz/haptic/device/trajectory_device.hpp>
 #include <khz/haptic/loop/haptic_loop.hpp>
+#include <khz/haptic/world/dynamics_options.hpp>
 #include <khz/reduced/basis/linear_modes.hpp>
 #include <khz/reduced/basis/modal_derivative_basis.hpp>
 #include <khz/reduced/basis/simulation_data_basis.hpp>
@@ -53,6 +54,8 @@ template <>
 const OptionTable<haptic::CouplingOptions>& option_table();
 template <>
 const OptionTable<haptic::LoopOptions>& option_table();
+template <>
+const OptionTable<haptic::DynamicsOptions>& option_table();
 template <>
 const OptionTable<haptic::DeviceCapabilities>& option_table();
 template <>

@@ -52,6 +52,7 @@ class ObjectPreparer {
     if (m_object.roles.distance_field) field();
     if (m_object.roles.pointshell) prepare_tree(prepared);
     if (m_object.roles.distance_field) prepare_field(prepared);
+    if (m_object.is_dynamic()) prepare_mass(prepared);
     return prepared;
   }
 
@@ -260,6 +261,18 @@ class ObjectPreparer {
           return contact::DeformedDistanceField(std::move(fields), *prepared.embedding,
                                                 prepared.model->basis().vectors, options);
         });
+  }
+
+  void prepare_mass(PreparedObject& prepared) {
+    prepared.mass_properties = build<reduced::MassProperties>(PrepareStep::mass_properties, [&] {
+      const DynamicsDescription& dynamics = *m_object.dynamics;
+      detail::require_closed_surface(surface(), "it has no mass or inertia as a free body",
+                                     "give a closed mesh, or hold the object instead");
+      const double density = dynamics.mass
+                                 ? *dynamics.mass / reduced::mass_properties(surface(), 1.0).volume
+                                 : dynamics.density;
+      return reduced::mass_properties(surface(), density);
+    });
   }
 
   const ObjectDescription& m_object;

@@ -18,6 +18,8 @@ std::string_view step_name(PrepareStep step) noexcept {
       return "point_tree";
     case PrepareStep::deformed_field:
       return "deformed_field";
+    case PrepareStep::mass_properties:
+      return "mass_properties";
   }
   return "?";
 }

@@ -5,6 +5,7 @@
 
 #include <khz/haptic/device/null_device.hpp>
 
+#include <cstdint>
 #include <string>
 
 namespace khz::scene::detail {
@@ -19,8 +20,9 @@ std::vector<haptic::Keyframe> read_keyframes(const ObjectReader& device) {
   }
   std::vector<haptic::Keyframe> result;
   for (std::size_t i = 0; i < value.size(); ++i) {
-    const ObjectReader keyframe(value[i], at.element(i), {"time", "position", "rotation"},
-                                {{"t", "time"}});
+    const ObjectReader keyframe(value[i], at.element(i),
+                                {"time", "position", "rotation", "buttons"},
+                                {{"t", "time"}, {"button", "buttons"}});
     haptic::Keyframe frame;
     if (i == 0) {
       frame.time = keyframe.required_number("time", any_value(), "s");
@@ -36,6 +38,8 @@ std::vector<haptic::Keyframe> read_keyframes(const ObjectReader& device) {
     if (keyframe.has("rotation")) {
       frame.pose.orientation = read_rotation(keyframe.value("rotation"), keyframe.at("rotation"));
     }
+    frame.buttons = keyframe.integer<std::uint32_t>(
+        "buttons", 0u, with_text(closed(0, 4294967295.0), "a bitmask in [0, 2^32)"));
     result.push_back(frame);
   }
   return result;

@@ -336,14 +336,43 @@ FieldDescription read_field(const ObjectReader& object, const ObjectDescription&
   return result;
 }
 
+/// "dynamics": a free rigid body's density (or mass) and its motion at the start.
+std::optional<DynamicsDescription> read_dynamics(const ObjectReader& object,
+                                                 const ObjectDescription& description) {
+  const auto dynamics =
+      object.object("dynamics", {"density", "mass", "velocity", "angular_velocity"},
+                    {{"rho", "density"}, {"omega", "angular_velocity"}, {"v", "velocity"}});
+  if (!dynamics) return std::nullopt;
+  if (description.is_reduced()) {
+    object.fail("dynamics",
+                "a free body is rigid, but model.type is \"reduced\"; remove \"model\" or "
+                "\"dynamics\"");
+  }
+  if (dynamics->has("density") && dynamics->has("mass")) {
+    dynamics->fail("mass", "give either \"density\" or \"mass\", not both");
+  }
+  DynamicsDescription result;
+  result.density = dynamics->number("density", result.density, above(0.0));
+  if (dynamics->has("mass")) result.mass = dynamics->number("mass", 0.0, above(0.0));
+  result.velocity = dynamics->vector3("velocity", result.velocity);
+  result.angular_velocity = dynamics->vector3("angular_velocity", result.angular_velocity);
+  return result;
+}
+
 }  // namespace
 
 ObjectDescription read_object(const Json& value, const Location& at, const ReadContext& context) {
-  const ObjectReader object(
-      value, at,
-      {"name", "mesh", "scale", "size", "centre", "fill_holes", "pose", "roles", "model", "field",
-       "pointshell"},
-      {{"role", "roles"}, {"position", "pose"}, {"rotation", "pose"}, {"path", "mesh"}});
+  const ObjectReader object(value, at,
+                            {"name", "mesh", "scale", "size", "centre", "fill_holes", "pose",
+                             "roles", "model", "field", "pointshell", "dynamics"},
+                            {{"role", "roles"},
+                             {"position", "pose"},
+                             {"rotation", "pose"},
+                             {"path", "mesh"},
+                             {"dynamic", "dynamics"},
+                             {"density", "dynamics"},
+                             {"mass", "dynamics"},
+                             {"velocity", "dynamics"}});
   ObjectDescription result;
   result.name = object.required_string("name", "the object's name");
   check_name(result.name, object.at("name"));
@@ -383,6 +412,7 @@ ObjectDescription read_object(const Json& value, const Location& at, const ReadC
         "\"tetrahedra\" needs a closed surface, but field.soup says the mesh is a polygon soup; "
         "use \"voxels\"");
   }
+  result.dynamics = read_dynamics(object, result);
   return result;
 }
 

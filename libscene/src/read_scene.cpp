@@ -99,14 +99,25 @@ int object_named(const std::string& name, const SceneDescription& scene, const L
 /// One hand: the held object, its role and grasp point, and (in a list) its device.
 HapticDescription read_hand(const Json& value, const Location& at, bool in_list,
                             const ReadContext& context, const SceneDescription& scene) {
-  std::initializer_list<std::string_view> keys = {"object", "role", "grasp_point"};
-  std::initializer_list<std::string_view> list_keys = {"object", "role", "grasp_point", "device"};
-  const ObjectReader haptic(value, at, in_list ? list_keys : keys,
-                            {{"name", "object"}, {"grasp", "grasp_point"}});
+  std::initializer_list<std::string_view> keys = {"object", "role", "grasp_point", "grasp_button"};
+  std::initializer_list<std::string_view> list_keys = {"object", "role", "grasp_point",
+                                                       "grasp_button", "device"};
+  const ObjectReader haptic(
+      value, at, in_list ? list_keys : keys,
+      {{"name", "object"}, {"grasp", "grasp_point"}, {"button", "grasp_button"}});
   HapticDescription result;
   result.object = haptic.required_string("object", "the name of the object the user holds");
   result.object_index = object_named(result.object, scene, haptic.at("object"));
   const ObjectDescription& held = scene.objects[static_cast<std::size_t>(result.object_index)];
+  if (held.is_dynamic()) {
+    haptic.fail("object", "object " + in_quotes(held.name) + " (objects[" +
+                              std::to_string(result.object_index) +
+                              "]) is a free body (it has \"dynamics\"): a hand holds an object "
+                              "without dynamics, and picks a free one up with its grasp_button");
+  }
+  result.grasp_button = haptic.integer(
+      "grasp_button", result.grasp_button,
+      detail::with_text(detail::closed(-1, 31), "-1 (none) or a button index in [0, 31]"));
   result.role = held.roles.distance_field ? contact::HapticObject::distance_field
                                           : contact::HapticObject::pointshell;
   if (haptic.has("role")) {
@@ -140,13 +151,22 @@ HapticDescription read_hand(const Json& value, const Location& at, bool in_list,
   return result;
 }
 
-/// Per object, whether a hand holds it.
-std::vector<bool> held_objects(const SceneDescription& scene) {
-  std::vector<bool> held(scene.objects.size(), false);
-  for (const HapticDescription& hand : scene.haptic) {
-    held[static_cast<std::size_t>(hand.object_index)] = true;
+/// A hand's grasp button must differ from its device's indexing button (both act on a press).
+void check_grasp_button(const HapticDescription& hand, const Location& at) {
+  if (hand.grasp_button >= 0 && hand.grasp_button == hand.device.safety.index_button) {
+    at.fail("button " + std::to_string(hand.grasp_button) +
+            " is the device's safety.index_button already; choose another");
   }
-  return held;
+}
+
+/// Per object, whether it moves: a hand holds it, or it is a free body.
+std::vector<bool> moving_objects(const SceneDescription& scene) {
+  std::vector<bool> moving(scene.objects.size(), false);
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) moving[i] = scene.objects[i].is_dynamic();
+  for (const HapticDescription& hand : scene.haptic) {
+    moving[static_cast<std::size_t>(hand.object_index)] = true;
+  }
+  return moving;
 }
 
 /// Whether objects a and b can touch: one's pointshell against the other's field.
@@ -156,7 +176,7 @@ bool can_touch(const ObjectDescription& a, const ObjectDescription& b) {
 }
 
 /// The hands ("haptic": one object with the top-level "device", or a list from version 2, each
-/// with its device), and that every object touches some held one.
+/// with its device), and that every object touches some moving one.
 void read_haptic(const ObjectReader& root, const ReadContext& context, SceneDescription& scene) {
   const Json& haptic = root.required("haptic", "the held object and its grasp point");
   const Location at = root.at("haptic");
@@ -174,6 +194,7 @@ void read_haptic(const ObjectReader& root, const ReadContext& context, SceneDesc
     }
     for (std::size_t i = 0; i < haptic.size(); ++i) {
       scene.haptic.push_back(read_hand(haptic[i], at.element(i), true, context, scene));
+      check_grasp_button(scene.haptic.back(), at.element(i).child("grasp_button"));
       for (std::size_t j = 0; j < i; ++j) {
         if (scene.haptic[j].object_index == scene.haptic[i].object_index) {
           at.element(i).child("object").fail("object " + in_quotes(scene.haptic[i].object) +
@@ -186,13 +207,15 @@ void read_haptic(const ObjectReader& root, const ReadContext& context, SceneDesc
     scene.haptic.push_back(read_hand(haptic, at, false, context, scene));
     scene.haptic.front().device = detail::read_device(
         root.has("device") ? &root.value("device") : nullptr, root.at("device"), context);
+    check_grasp_button(scene.haptic.front(), at.child("grasp_button"));
   }
-  // Every object touches some other through a complementary role, one of the two held: first
-  // the objects no hand holds (the usual mistake: a role missing), then the held ones.
-  const std::vector<bool> held = held_objects(scene);
+  // Every object touches some other through a complementary role, one of the two moving (held
+  // or free): first the fixed objects (the usual mistake: a role missing), then the held ones. A
+  // free object always does: it meets the held object or the held object's partner.
+  const std::vector<bool> moving = moving_objects(scene);
   const auto touches = [&](std::size_t i) {
     for (std::size_t j = 0; j < scene.objects.size(); ++j) {
-      if (j != i && (held[i] || held[j]) && can_touch(scene.objects[i], scene.objects[j])) {
+      if (j != i && (moving[i] || moving[j]) && can_touch(scene.objects[i], scene.objects[j])) {
         return true;
       }
     }
@@ -200,7 +223,7 @@ void read_haptic(const ObjectReader& root, const ReadContext& context, SceneDesc
   };
   const HapticDescription& first = scene.haptic.front();
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    if (held[i] || touches(i)) continue;
+    if (moving[i] || touches(i)) continue;
     root.at("objects").element(i).child("roles").fail(
         "object " + in_quotes(scene.objects[i].name) + " touches nothing: the held object " +
         in_quotes(first.object) + " plays " + role_name(first.role) +
@@ -243,7 +266,7 @@ void read_friction(const ObjectReader& block, contact::FrictionOptions& friction
 void read_pairs(const ObjectReader& contact, SceneDescription& scene) {
   const Json* pairs = contact.array("pairs");
   if (pairs == nullptr) return;
-  const std::vector<bool> held = held_objects(scene);
+  const std::vector<bool> moving = moving_objects(scene);
   for (std::size_t i = 0; i < pairs->size(); ++i) {
     const Location at = contact.at("pairs").element(i);
     const ObjectReader entry((*pairs)[i], at, {"objects", "friction"});
@@ -259,10 +282,10 @@ void read_pairs(const ObjectReader& contact, SceneDescription& scene) {
     const auto a = static_cast<std::size_t>(pair.object_indices[0]);
     const auto b = static_cast<std::size_t>(pair.object_indices[1]);
     if (a == b) entry.fail("objects", "names " + in_quotes(pair.objects[0]) + " twice");
-    if (!(held[a] || held[b])) {
+    if (!(moving[a] || moving[b])) {
       entry.fail("objects", "neither " + in_quotes(pair.objects[0]) + " nor " +
                                 in_quotes(pair.objects[1]) +
-                                " is held, and objects no hand holds do not touch each other");
+                                " moves (held or free), and fixed objects do not touch each other");
     }
     if (!can_touch(scene.objects[a], scene.objects[b])) {
       entry.fail("objects", in_quotes(pair.objects[0]) + " (" + roles_text(scene.objects[a]) +
@@ -335,6 +358,21 @@ void read_contact(const ObjectReader& root, SceneDescription& scene) {
   read_pairs(*contact, scene);
 }
 
+/// "dynamics": how the free objects move; only in a scene that has one.
+void read_dynamics(const ObjectReader& root, SceneDescription& scene) {
+  scene.dynamics.time_step = 1.0 / scene.loop.rate_hz;
+  if (!root.has("dynamics")) return;
+  const bool any_free = std::any_of(scene.objects.begin(), scene.objects.end(),
+                                    [](const ObjectDescription& o) { return o.is_dynamic(); });
+  if (!any_free) {
+    root.fail("dynamics",
+              "settings for free bodies, but no object has \"dynamics\" (objects[i].dynamics "
+              "makes one)");
+  }
+  detail::read_block(root, "dynamics", scene.dynamics,
+                     {{"time_step", "loop.rate_hz"}, {"damping", "contact_damping"}});
+}
+
 void read_coupling(const ObjectReader& root, SceneDescription& scene) {
   haptic::CouplingOptions& options = scene.coupling;
   options.period = 1.0 / scene.loop.rate_hz;
@@ -365,7 +403,8 @@ SceneDescription parse(std::string_view text, const ReadContext& context) {
   const Json json = detail::parse_json(text, context.source);
   const ObjectReader root(json, Location{context.source, {}},
                           {"version", "description", "objects", "haptic", "contact", "coupling",
-                           "device", "loop", "threads"});
+                           "device", "loop", "threads", "dynamics"},
+                          {{"gravity", "dynamics"}});
   SceneDescription scene;
   scene.source = context.source;
   scene.base_directory = context.base_directory;
@@ -389,7 +428,9 @@ SceneDescription parse(std::string_view text, const ReadContext& context) {
   read_haptic(root, derived, scene);
   read_contact(root, scene);
   read_coupling(root, scene);
+  read_dynamics(root, scene);
   check_with_library(scene.loop, root.at("loop"));
+  check_with_library(scene.dynamics, root.at("dynamics"));
   check_with_library(scene.contact, root.at("contact"));
   check_with_library(scene.coupling, root.at("coupling"));
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {

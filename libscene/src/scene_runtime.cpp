@@ -46,6 +46,19 @@ haptic::Body make_body(const ObjectDescription& description, const PreparedObjec
     object.field_state = std::make_unique<contact::DeformedFieldState>(*products.deformed_field);
     body.field = object.field_state.get();
   }
+  if (description.dynamics) {
+    if (products.mass_properties == nullptr) {
+      throw reduced::Error("SceneRuntime: free object \"" + description.name +
+                           "\" was prepared without its mass properties");
+    }
+    const reduced::MassProperties& mass = *products.mass_properties;
+    haptic::BodyDynamics& dynamics = body.dynamics.emplace();
+    dynamics.inertia.mass = mass.mass;
+    dynamics.inertia.centre = mass.centre;
+    dynamics.inertia.inertia = mass.inertia;
+    dynamics.velocity = description.dynamics->velocity;
+    dynamics.angular_velocity = description.dynamics->angular_velocity;
+  }
   return body;
 }
 
@@ -139,11 +152,13 @@ SceneRuntime::SceneRuntime(const PreparedScene& prepared, std::vector<DeviceDesc
     hand.device = d.devices.back().get();
     hand.coupling = scene.coupling;
     hand.role = description.role;
+    hand.grasp_button = description.grasp_button;
     world_hands.push_back(hand);
   }
   if (scene.duration > 0.0) d.natural_duration = scene.duration;
   d.world =
       std::make_unique<haptic::World>(std::move(bodies), std::move(world_hands), scene.contact);
+  d.world->set_dynamics(scene.dynamics);
   for (const PairDescription& pair : scene.pairs) {
     d.world->set_pair_friction(pair.object_indices[0], pair.object_indices[1], pair.friction);
   }

@@ -457,6 +457,52 @@ TEST(SceneDescription, EverySettingReachesItsMember) {
   EXPECT_EQ(d.cold_fraction, 0.5);
 }
 
+// Free bodies (issue 20): each object's "dynamics", the scene's "dynamics" settings, a hand's
+// grasp button and an operator's button presses; left out, the library's defaults.
+TEST(SceneDescription, FreeBodiesTheirSettingsAndGrasping) {
+  const SceneDescription plain = parse(minimal_scene());
+  EXPECT_FALSE(plain.objects[0].is_dynamic());
+  EXPECT_EQ(plain.haptic.front().grasp_button, -1);
+  const haptic::DynamicsOptions defaults;
+  EXPECT_EQ(plain.dynamics.gravity, defaults.gravity);
+  EXPECT_EQ(plain.dynamics.contact_damping, defaults.contact_damping);
+  EXPECT_EQ(plain.dynamics.sleep_speed, defaults.sleep_speed);
+  EXPECT_EQ(plain.dynamics.sleep_time, defaults.sleep_time);
+  EXPECT_EQ(plain.dynamics.time_step, 1.0 / plain.loop.rate_hz);
+
+  Json scene = minimal_scene();
+  scene["objects"].push_back(Json::parse(R"({
+    "name": "box", "mesh": "cube.off", "roles": ["pointshell", "distance_field"],
+    "dynamics": {"density": 800, "velocity": [1, 2, 3], "angular_velocity": [4, 5, 6]}})"));
+  scene["objects"].push_back(Json::parse(R"({
+    "name": "ball", "mesh": "cube.off", "roles": ["pointshell"], "dynamics": {"mass": 0.25}})"));
+  scene["objects"].push_back(Json::parse(R"({
+    "name": "pebble", "mesh": "cube.off", "roles": ["pointshell"], "dynamics": {}})"));
+  scene["dynamics"] = Json::parse(R"({"gravity": [0, -9.8, 0], "contact_damping": 0.01,
+                                      "sleep_speed": 0.002, "sleep_time": 0.5})");
+  scene["haptic"]["grasp_button"] = 2;
+  scene["loop"] = {{"rate_hz", 2000}};
+  scene["device"] = Json::parse(R"({"type": "operator", "keyframes": [
+    {"time": 0, "position": [0, 0, 0]}, {"time": 1, "position": [0, 0, 0], "buttons": 4}]})");
+  const SceneDescription s = parse(scene);
+  ASSERT_TRUE(s.objects[2].dynamics.has_value());
+  EXPECT_EQ(s.objects[2].dynamics->density, 800.0);
+  EXPECT_FALSE(s.objects[2].dynamics->mass.has_value());
+  EXPECT_EQ(s.objects[2].dynamics->velocity, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(s.objects[2].dynamics->angular_velocity, Eigen::Vector3d(4, 5, 6));
+  EXPECT_EQ(s.objects[3].dynamics->mass, 0.25);
+  EXPECT_EQ(s.objects[4].dynamics->density, 1000.0);
+  EXPECT_EQ(s.objects[4].dynamics->velocity, Eigen::Vector3d::Zero());
+  EXPECT_EQ(s.dynamics.gravity, Eigen::Vector3d(0, -9.8, 0));
+  EXPECT_EQ(s.dynamics.contact_damping, 0.01);
+  EXPECT_EQ(s.dynamics.sleep_speed, 0.002);
+  EXPECT_EQ(s.dynamics.sleep_time, 0.5);
+  EXPECT_EQ(s.dynamics.time_step, 1.0 / 2000.0);
+  EXPECT_EQ(s.haptic.front().grasp_button, 2);
+  EXPECT_EQ(s.haptic.front().device.keyframes[0].buttons, 0u);
+  EXPECT_EQ(s.haptic.front().device.keyframes[1].buttons, 4u);
+}
+
 TEST(SceneDescription, DerivedDefaults) {
   // With both roles the held object plays the distance field (the thesis's convention).
   Json scene = minimal_scene();

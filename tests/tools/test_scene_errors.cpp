@@ -350,8 +350,8 @@ TEST(SceneErrors, Friction) {
                          "contact.pairs[0].objects", "names \"wall\" twice"));
   EXPECT_TRUE(fails_with(pairs(Json::parse(R"([{"objects": ["wall", "floor"]}])")),
                          "contact.pairs[0].objects",
-                         "neither \"wall\" nor \"floor\" is held, and objects no hand holds do "
-                         "not touch each other"));
+                         "neither \"wall\" nor \"floor\" moves (held or free), and fixed objects "
+                         "do not touch each other"));
   EXPECT_TRUE(fails_with(pairs(Json::parse(R"([{"objects": ["tool", "ball"]}])")),
                          "contact.pairs[0].objects",
                          "\"tool\" (\"pointshell\") and \"ball\" (\"pointshell\") never touch: one "
@@ -421,6 +421,85 @@ TEST(SceneErrors, TheHeldObject) {
   EXPECT_TRUE(fails_with(edited([](Json& s) { s["haptic"]["grasp_point"] = "center"; }),
                          "haptic.grasp_point",
                          "expected \"centre\", got \"center\"; did you mean \"centre\"?"));
+}
+
+// Free bodies ("dynamics"), their settings ("dynamics" at the top level) and grasping.
+TEST(SceneErrors, FreeBodiesAndGrasping) {
+  // The tool held, the wall fixed, a free box with both roles.
+  const auto with_box = [](const std::function<void(Json&)>& edit) {
+    return edited([&](Json& s) {
+      s["objects"].push_back({{"name", "box"},
+                              {"mesh", "cube.off"},
+                              {"roles", {"pointshell", "distance_field"}},
+                              {"dynamics", {{"mass", 0.5}}}});
+      edit(s);
+    });
+  };
+  EXPECT_NO_THROW(parse_scene(with_box([](Json&) {}).dump(), "scene.json", test_options()));
+  EXPECT_TRUE(fails_with(with_box([](Json& s) { s["objects"][2]["dynamics"]["mass"] = 0; }),
+                         "objects[2].dynamics.mass", "expected a number > 0, got 0"));
+  EXPECT_TRUE(fails_with(with_box([](Json& s) { s["objects"][2]["dynamics"]["density"] = 800; }),
+                         "objects[2].dynamics.mass",
+                         "give either \"density\" or \"mass\", not both"));
+  EXPECT_TRUE(fails_with(with_box([](Json& s) {
+                           s["objects"][2]["dynamics"]["velocity"] = {1, 2};
+                         }),
+                         "objects[2].dynamics.velocity",
+                         "expected an array of 3 numbers [x, y, z], got [1,2]"));
+  EXPECT_TRUE(fails_with(with_box([](Json& s) { s["objects"][2]["mass"] = 0.5; }),
+                         "objects[2].mass", "unknown key; did you mean \"dynamics\"?"));
+  EXPECT_TRUE(fails_with(
+      with_box([](Json& s) {
+        s["objects"][2]["model"] = {
+            {"type", "reduced"},
+            {"material", {{"young_modulus", 1e6}, {"poisson_ratio", 0.45}, {"density", 1000}}}};
+      }),
+      "objects[2].dynamics",
+      "a free body is rigid, but model.type is \"reduced\"; remove \"model\" "
+      "or \"dynamics\""));
+  EXPECT_TRUE(fails_with(with_box([](Json& s) { s["haptic"]["object"] = "box"; }), "haptic.object",
+                         "object \"box\" (objects[2]) is a free body (it has \"dynamics\"): a "
+                         "hand holds an object without dynamics, and picks a free one up with its "
+                         "grasp_button"));
+  // A free body with only a distance field touches the held tool's pointshell.
+  EXPECT_NO_THROW(
+      parse_scene(with_box([](Json& s) { s["objects"][2]["roles"] = {"distance_field"}; }).dump(),
+                  "scene.json", test_options()));
+  // Top-level "dynamics": only with a free body; time_step is the loop's.
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["dynamics"] = {{"gravity", {0, 0, -9.81}}};
+                         }),
+                         "dynamics",
+                         "settings for free bodies, but no object has \"dynamics\" "
+                         "(objects[i].dynamics makes one)"));
+  EXPECT_TRUE(fails_with(with_box([](Json& s) {
+                           s["dynamics"] = {{"time_step", 0.001}};
+                         }),
+                         "dynamics.time_step", "unknown key; did you mean \"loop.rate_hz\"?"));
+  EXPECT_TRUE(fails_with(with_box([](Json& s) {
+                           s["dynamics"] = {{"sleep_time", -1}};
+                         }),
+                         "dynamics.sleep_time", "expected a number ≥ 0, got -1"));
+  EXPECT_TRUE(fails_with(with_box([](Json& s) {
+                           s["gravity"] = {0, 0, -9.81};
+                         }),
+                         "gravity", "unknown key; did you mean \"dynamics\"?"));
+  // The grasp button.
+  EXPECT_TRUE(fails_with(with_box([](Json& s) { s["haptic"]["grasp_button"] = 32; }),
+                         "haptic.grasp_button",
+                         "expected -1 (none) or a button index in [0, 31], got 32"));
+  EXPECT_TRUE(fails_with(with_box([](Json& s) {
+                           s["haptic"]["grasp_button"] = 1;
+                           s["device"] = {{"safety", {{"index_button", 1}}}};
+                         }),
+                         "haptic.grasp_button",
+                         "button 1 is the device's safety.index_button already; choose another"));
+  EXPECT_TRUE(fails_with(
+      with_box([](Json& s) {
+        s["device"] = {{"type", "operator"},
+                       {"keyframes", {{{"time", 0}, {"position", {0, 0, 0}}, {"buttons", -1}}}}};
+      }),
+      "device.keyframes[0].buttons", "expected a bitmask in [0, 2^32), got -1"));
 }
 
 /// minimal_scene() with its hand as a one-entry list (version 2) and the top-level device moved

@@ -551,6 +551,47 @@ TEST(ScenePrepare, AnOpenMeshGetsNoSignedFieldUnlessItsHolesAreFilledOrItIsASoup
   EXPECT_EQ(prepare(open_box, fresh_cache()).objects[0].field->boundary_nodes_inside(), 0);
 }
 
+// A free body's mass properties are those of the solid its closed surface bounds: the 5 cm cube
+// at a density, or at the density that gives a mass (the reference: a cube's m = ρ a³ and
+// I = m a² / 6 about its centre). An open mesh has none, and is refused in the scene's terms.
+TEST(ScenePrepare, AFreeBodyGetsTheMassPropertiesOfItsClosedSurface) {
+  Json scene = rigid_scene();
+  scene["objects"].push_back({{"name", "box"},
+                              {"mesh", "cube.off"},
+                              {"size", 0.05},
+                              {"centre", true},
+                              {"pose", {{"position", {0.0, 0.2, 0.0}}}},
+                              {"roles", {"pointshell"}},
+                              {"pointshell", {{"method", "vertices"}}},
+                              {"dynamics", {{"density", 800.0}}}});
+  const PreparedScene prepared = prepare(scene, fresh_cache());
+  EXPECT_EQ(prepared.objects[1].mass_properties, nullptr) << "the held tool";
+  ASSERT_NE(prepared.objects[2].mass_properties, nullptr);
+  const reduced::MassProperties& box = *prepared.objects[2].mass_properties;
+  const double side = 0.05, mass = 800.0 * side * side * side;
+  EXPECT_NEAR(box.mass, mass, 1e-12 * mass);
+  EXPECT_LE(box.centre.norm(), 1e-15);
+  EXPECT_LE((box.inertia - Eigen::Matrix3d::Identity() * mass * side * side / 6.0).norm(),
+            1e-12 * mass * side * side);
+  EXPECT_EQ(prepared.records.back().object, "box");
+  EXPECT_EQ(prepared.records.back().step, PrepareStep::mass_properties);
+  EXPECT_EQ(prepared.records.back().origin, PrepareRecord::Origin::built);
+
+  scene["objects"][2]["dynamics"] = {{"mass", 0.25}};
+  const PreparedScene by_mass = prepare(scene, fresh_cache());
+  EXPECT_NEAR(by_mass.objects[2].mass_properties->mass, 0.25, 1e-12);
+  EXPECT_NEAR(by_mass.objects[2].mass_properties->inertia(0, 0), 0.25 * side * side / 6.0,
+              1e-12 * side * side);
+
+  scene["objects"][2]["mesh"] = test::cgal_mesh("cube-ouvert.off").string();
+  EXPECT_TRUE(test::throws_with_message<PrepareError>(
+      [&] { prepare(scene, fresh_cache()); },
+      "object \"box\": mass_properties: the mesh is not closed (4 boundary edges), so its "
+      "inside is undefined and it has no mass or inertia as a free body; give a closed mesh, or "
+      "hold "
+      "the object instead"));
+}
+
 TEST(ScenePrepare, AnOpenMeshIsNotTetrahedralized) {
   Json open_tool = reduced_scene();
   open_tool["objects"][0]["mesh"] = test::cgal_mesh("cube-ouvert.off").string();

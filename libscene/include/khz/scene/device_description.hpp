@@ -41,8 +41,9 @@ struct DeviceDescription {
 
   // --- operator ---
   /// "keyframes" (required, ≥ 1): [{"time": s, "position": [x, y, z], "rotation": {"axis",
-  /// "degrees"}}, ...], times strictly increasing: the hand's target (keyframe_target()), in
-  /// device-frame coordinates.
+  /// "degrees"}, "buttons": mask}, ...], times strictly increasing: the hand's target
+  /// (keyframe_target()), in device-frame coordinates, and the buttons held from each keyframe
+  /// to the next (keyframe_buttons(); default 0), e.g. to grasp with haptic[h].grasp_button.
   std::vector<haptic::Keyframe> keyframes;
   /// The virtual device and hand, haptic::SimulatedOperatorOptions: JSON "dynamics" → device
   /// (mass, inertia, damping, rotational_damping), "hand" (mass, inertia, stiffness, damping,

@@ -3,6 +3,7 @@
 // its model, distance field and pointshell are made.
 
 #include <khz/haptic/common.hpp>
+#include <khz/scene/dynamics_description.hpp>
 #include <khz/scene/field_description.hpp>
 #include <khz/scene/model_description.hpp>
 #include <khz/scene/pointshell_description.hpp>
@@ -58,9 +59,14 @@ struct ObjectDescription {
   FieldDescription field;
   /// "pointshell": used by the pointshell role.
   PointshellDescription pointshell;
+  /// "dynamics": set for a free rigid body (neither held nor fixed). Unset by default: an object
+  /// no hand holds stays at its pose.
+  std::optional<DynamicsDescription> dynamics;
 
   /// True for a reduced deformable model.
   bool is_reduced() const noexcept { return model.type == ModelType::reduced; }
+  /// True for a free rigid body ("dynamics").
+  bool is_dynamic() const noexcept { return dynamics.has_value(); }
   /// True if the object needs its distance field: it has the distance_field role, or a
   /// repulsion pointshell whose level set the field provides.
   bool uses_field() const noexcept {

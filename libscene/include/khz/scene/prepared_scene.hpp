@@ -7,6 +7,7 @@
 #include <khz/contact/tree/deformable_point_tree.hpp>
 #include <khz/contact/tree/point_tree.hpp>
 #include <khz/reduced/fem/embedding.hpp>
+#include <khz/reduced/mesh/mass_properties.hpp>
 #include <khz/reduced/subspace/reduced_model.hpp>
 #include <khz/scene/export.hpp>
 #include <khz/scene/scene_description.hpp>
@@ -30,10 +31,11 @@ enum class PrepareStep {
   pointshell,      ///< The pointshell (.khzshell).
   point_tree,      ///< The point tree: a reduced pointshell's (.khztree), or a rigid one's (built).
   deformed_field,  ///< A reduced distance-field object's deformed field (built).
+  mass_properties,  ///< A free object's mass, centre of mass and inertia (built).
 };
 
-/// "volume_mesh", "reduced_model", "distance_field", "pointshell", "point_tree" or
-/// "deformed_field"; also the cache file names' prefix.
+/// "volume_mesh", "reduced_model", "distance_field", "pointshell", "point_tree",
+/// "deformed_field" or "mass_properties"; also the cache file names' prefix.
 KHZ_SCENE_API std::string_view step_name(PrepareStep step) noexcept;
 
 /// How prepare_scene() obtained one object's product.
@@ -84,6 +86,9 @@ struct PreparedObject {
   std::unique_ptr<contact::PointTree> tree;
   /// Reduced objects with the pointshell role: the point tree with its modes.
   std::unique_ptr<contact::DeformablePointTree> deformable_tree;
+  /// Free objects ("dynamics"): the mass properties of the solid the body-frame surface bounds
+  /// at the object's density (or the density that gives its mass).
+  std::unique_ptr<reduced::MassProperties> mass_properties;
 };
 
 /// Something about a prepared object that is likely a mistake but not an error, e.g. a size that

@@ -5,6 +5,7 @@
 #include <khz/contact/query/contact_options.hpp>
 #include <khz/haptic/coupling/coupling_options.hpp>
 #include <khz/haptic/loop/haptic_loop.hpp>
+#include <khz/haptic/world/dynamics_options.hpp>
 #include <khz/scene/device_description.hpp>
 #include <khz/scene/object_description.hpp>
 
@@ -33,6 +34,10 @@ struct HapticDescription {
   bool grasp_at_centre = true;
   /// The body-frame grasp point (m) when grasp_at_centre is false.
   Eigen::Vector3d grasp_point = Eigen::Vector3d::Zero();
+  /// "grasp_button": the device button (bit index in [0, 31]) that, while held, grasps the
+  /// dynamic object the held one touches (haptic::Hand::grasp_button); −1 (the default): none.
+  /// Not the device's safety.index_button.
+  int grasp_button = -1;
   /// "device" of this entry (a list of hands, version 2), or the scene's top-level "device"
   /// (one hand): a null device by default.
   DeviceDescription device;
@@ -65,9 +70,9 @@ struct SceneDescription {
   int version = 2;
   /// "description": free text for people; not used.
   std::string description;
-  /// "objects" (required): distinct names; some are held (haptic[i].object), the others stay
-  /// at their pose, and every object takes part in some contact with a held one, so there are
-  /// at least two.
+  /// "objects" (required): distinct names; some are held (haptic[i].object), some may be free
+  /// rigid bodies (objects[i].dynamics), the others stay at their pose, and every object takes
+  /// part in some contact with a held or free one, so there are at least two.
   std::vector<ObjectDescription> objects;
   /// "haptic" (required): the hands, at least one. One object {"object", "role",
   /// "grasp_point"} with the scene's top-level "device", or (version 2) a list of such objects,
@@ -83,6 +88,10 @@ struct SceneDescription {
   /// "contact.pairs": pairs of objects whose contact differs from "contact" (their friction),
   /// at most one entry per pair.
   std::vector<PairDescription> pairs;
+  /// "dynamics" (only with a free object): haptic::DynamicsOptions of the free objects with the
+  /// same JSON names and defaults (gravity [x, y, z] m/s², contact_damping s, sleep_speed m/s,
+  /// sleep_time s). time_step is not a key: the reader sets it to 1 / loop.rate_hz.
+  haptic::DynamicsOptions dynamics;
   /// "coupling": haptic::CouplingOptions with the same JSON names and defaults, for every hand;
   /// the limits that default to unlimited stay unlimited when absent. period is not a key: the
   /// reader sets it to 1 / loop.rate_hz.

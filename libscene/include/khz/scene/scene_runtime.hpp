@@ -22,7 +22,9 @@ namespace khz::scene {
 /// surface mesh (body frame), and for a reduced one its integrator (reduced::make_reduced_newmark()
 /// with the model's defaults) and deformed-field state; per hand ("haptic" entry) its device behind
 /// a haptic::SafeDevice with the entry's safety and mapping; and the haptic::World of them all
-/// (the scene's contact and coupling settings, each hand's grasp point and role). A cycle is
+/// (the scene's contact, coupling and dynamics settings, each hand's grasp point, role and grasp
+/// button; a free object ("dynamics") a dynamic body with its prepared mass properties and
+/// starting velocities, and its contact.pairs friction). A cycle is
 /// world().cycle(); the World's body i is the scene's object i and its hand h the scene's
 /// haptic[h].
 ///
