@@ -10,6 +10,8 @@
 #include <khz/run/cycle_log.hpp>
 #include <khz/run/device_choice.hpp>
 #include <khz/run/frame_renderer.hpp>
+#include <khz/run/free_bodies.hpp>
+#include <khz/run/held_still_device.hpp>
 #include <khz/run/point_states.hpp>
 #include <khz/run/run_realtime.hpp>
 #include <khz/run/run_scene.hpp>
@@ -20,6 +22,7 @@
 
 #include <fstream>
 #include <span>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -375,6 +378,64 @@ TEST(FrameRenderer, ShowsObjectsContactPointsAndForce) {
   const render::Image lifted = renderer.render(capture_frame(runtime), &apart);
   EXPECT_EQ(apart.in_contact, 0);
   EXPECT_EQ(count(lifted, options.contact_color), 0);
+}
+
+// A free object (scene "dynamics", y up here) dropped 1 cm onto the fixed wall beside the held
+// tool: it falls, lands and rests on the wall's top face (with friction), asleep, with the mass
+// its density and mesh give; khz run's line about it says so.
+TEST(RunScene, AFreeObjectFallsOntoTheWallAndComesToRest) {
+  nlohmann::json json = cube_scene();
+  json["objects"].push_back(nlohmann::json::parse(R"(
+    {"name": "box", "mesh": "cube.off", "size": 0.04, "centre": true,
+     "pose": {"position": [-0.025, 0.08, 0.0]}, "roles": ["pointshell"],
+     "pointshell": {"method": "random", "points": 2000, "first_level_points": 50, "growth": 4,
+                    "levels": 3},
+     "dynamics": {"density": 500}})"));
+  json["dynamics"] = {{"gravity", {0.0, -9.81, 0.0}}};
+  // With friction, so that it stops where it lands (its random points are not symmetric).
+  json["contact"]["pairs"] = nlohmann::json::parse(
+      R"([{"objects": ["box", "wall"], "friction": {"static": 0.5, "kinetic": 0.4}}])");
+  json["loop"]["duration"] = 0.8;
+  const scene::PreparedScene prepared = prepare(json);
+  scene::SceneRuntime runtime(prepared);
+  const haptic::FreeBodyMotion* box = runtime.world().motion(2);
+  ASSERT_NE(box, nullptr);
+  EXPECT_NEAR(box->inertia().mass, 500.0 * 0.04 * 0.04 * 0.04, 1e-12);
+  run_scene(runtime);
+  const std::vector<FreeBodyState> states = free_body_states(runtime);
+  ASSERT_EQ(states.size(), 1u);
+  EXPECT_EQ(states[0].name, "box");
+  EXPECT_TRUE(states[0].asleep);
+  EXPECT_EQ(states[0].hand, -1);
+  // Resting on the top face (y = 0.05), its centre a half side above, pressed in under 1 mm.
+  EXPECT_NEAR(states[0].centre.y(), 0.07, 1e-3);
+  EXPECT_NEAR(states[0].centre.x(), -0.025, 1e-3);
+  EXPECT_NEAR((states[0].centre - states[0].start).norm(), 0.01, 1e-3);
+  std::ostringstream printed;
+  print_free_bodies(printed, states);
+  EXPECT_EQ(printed.str().rfind("free body \"box\": moved ", 0), 0u) << printed.str();
+  EXPECT_NE(printed.str().find("; at rest\n"), std::string::npos) << printed.str();
+}
+
+// From its hold time on, a held-still device reports the pose and buttons it read then, at
+// rest, whatever the device under it does: a hand holding still lets go of nothing.
+TEST(HeldStillDevice, HoldsThePoseAndTheButtonsOfItsHoldTime) {
+  auto null = std::make_unique<haptic::NullDevice>();
+  haptic::NullDevice& device = *null;
+  HeldStillDevice held(std::move(null), 0.002);
+  held.open();
+  device.set_pose(grasp_at(0.01, 0.0, 0.0));
+  device.set_buttons(1u);
+  haptic::DeviceState state;
+  do {
+    ASSERT_TRUE(held.read(state));
+  } while (state.time < 0.002);
+  device.set_pose(grasp_at(0.0, 0.02, 0.0));
+  device.set_buttons(0u);
+  ASSERT_TRUE(held.read(state));
+  EXPECT_EQ(state.pose.position, Eigen::Vector3d(0.01, 0.0, 0.0));
+  EXPECT_EQ(state.buttons, 1u);
+  EXPECT_EQ(state.linear_velocity, Eigen::Vector3d::Zero());
 }
 
 // The real-time loop runs the same cycle: every cycle is logged at its scheduled time, a

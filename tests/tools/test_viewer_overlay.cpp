@@ -26,6 +26,7 @@ TEST(OverlayText, StatusGivesTheRatesAndEachHandsWrenchAndContact) {
   degraded.contact.force = {0.0, 0.0, 0.25};
   degraded.contact.torque.setZero();
   degraded.contact.statistics.points_in_contact = 7;
+  degraded.contact.statistics.points_sliding = 3;  // friction slid them
   degraded.contact.statistics.deepest_level = 2;
   degraded.contact.statistics.complete = false;
   const haptic::CycleRecord records[] = {touching(), degraded, haptic::CycleRecord{}};
@@ -38,7 +39,7 @@ TEST(OverlayText, StatusGivesTheRatesAndEachHandsWrenchAndContact) {
                 "hand 0 (peg, mouse): force 5 N, torque 0.012 N m",
                 "  42 points in contact, deepest level 5",
                 "hand 1 (plate, scene's device): force 0.25 N, torque 0 N m",
-                "  7 points in contact, deepest level 2, cut short by degradation",
+                "  7 points in contact (3 sliding), deepest level 2, cut short by degradation",
                 "hand 2 (tool, scene's device): force 0 N, torque 0 N m",
                 "  no contact query this cycle (none yet, or it refused its input)",
             }));

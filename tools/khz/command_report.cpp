@@ -77,6 +77,7 @@ void report(const RunRequest& request, bool stability) {
   input.sweep = sweep;
   input.stability = std::move(stability_points);
   input.frames = some_frames(result.frames, session.out(), 4);
+  input.free_bodies = run::free_body_states(runtime);
   const run::ReportFiles files = run::write_report(session.out(), input);
   std::cout << "wrote " << files.markdown.string() << "\n";
 }

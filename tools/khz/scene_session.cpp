@@ -6,6 +6,7 @@
 #include <khz/run/device_choice.hpp>
 #include <khz/run/frame_renderer.hpp>
 #include <khz/run/frame_series.hpp>
+#include <khz/run/free_bodies.hpp>
 #include <khz/run/run_realtime.hpp>
 #include <khz/run/run_scene.hpp>
 #include <khz/run/run_summary.hpp>
@@ -167,6 +168,7 @@ RunResult SceneSession::run(bool record_states) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.interrupted = interrupt.requested();
   const std::vector<run::RunSummary> summaries = log_rows(result);
+  run::print_free_bodies(std::cout, run::free_body_states(*m_runtime));
   std::cout << "wall time: " << wall << " s" << (result.interrupted ? " (interrupted)" : "")
             << "\nwrote " << files_text(result.csv);
   if (!result.frames.empty()) {
@@ -190,6 +192,7 @@ RunResult SceneSession::run_realtime() {
   result.rows = std::move(realtime.rows);
   result.interrupted = interrupt.requested();
   const std::vector<run::RunSummary> summaries = log_rows(result);
+  run::print_free_bodies(std::cout, run::free_body_states(*m_runtime));
   const haptic::LoopStatistics& loop = realtime.loop;
   std::cout << "loop: " << loop.cycles << " cycles, " << loop.deadline_misses
             << " deadline misses, " << loop.skipped_cycles << " periods skipped; work mean "

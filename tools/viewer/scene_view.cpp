@@ -69,11 +69,10 @@ void arrow(const Eigen::Vector3d& from, const Eigen::Vector3d& to, const render:
 
 }  // namespace
 
-/// One object as drawn: its surface (body frame), how it deforms, its pose if it stays put.
+/// One object as drawn: its surface (body frame) and how it deforms.
 struct SceneView::Body {
   reduced::TriangleMatrix triangles;
   std::unique_ptr<reduced::EmbeddedSurface> embedded;  // reduced objects only
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   render::Color color;
   bool smooth = false;
   reduced::VertexMatrix positions;  // this frame's, body frame
@@ -89,6 +88,7 @@ SceneView::SceneView(const scene::SceneRuntime& runtime, const SnapshotLayout& l
       m_reference_force(run::arrow_reference_force(runtime.description())) {
   for (int h = 0; h < runtime.hand_count(); ++h) {
     m_hand_of[static_cast<std::size_t>(runtime.held_object(h))] = h;
+    m_held_objects.push_back(runtime.held_object(h));
     m_grasps_in_body.push_back(runtime.grasp_in_body(h));
   }
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
@@ -100,9 +100,11 @@ SceneView::SceneView(const scene::SceneRuntime& runtime, const SnapshotLayout& l
       body->embedded = std::make_unique<reduced::EmbeddedSurface>(*products.embedding, surface,
                                                                   products.model->basis().vectors);
     }
-    body->pose = runtime.pose(i);
-    body->color =
-        m_hand_of[static_cast<std::size_t>(i)] >= 0 ? m_colors.held_color : m_colors.other_color;
+    body->color = m_hand_of[static_cast<std::size_t>(i)] >= 0
+                      ? m_colors.held_color
+                      : (runtime.description().objects[static_cast<std::size_t>(i)].is_dynamic()
+                             ? m_colors.free_color
+                             : m_colors.other_color);
     body->smooth = run::shade_smoothly(surface.triangles);
     body->positions = surface.vertices;
     body->normals.resize(surface.vertices.rows(), 3);
@@ -141,10 +143,7 @@ void SceneView::draw(const SceneSnapshot& snapshot, const render::Camera& camera
   glEnable(GL_POLYGON_OFFSET_FILL);
   glPolygonOffset(1.0f, 1.0f);
   for (std::size_t i = 0; i < m_bodies.size(); ++i) {
-    const int hand = m_hand_of[i];
-    draw_body(*m_bodies[i],
-              hand >= 0 ? snapshot.held_poses[static_cast<std::size_t>(hand)] : m_bodies[i]->pose,
-              m_layout.coordinates(snapshot, static_cast<int>(i)));
+    draw_body(*m_bodies[i], snapshot.poses[i], m_layout.coordinates(snapshot, static_cast<int>(i)));
   }
   glDisable(GL_POLYGON_OFFSET_FILL);
   glDisable(GL_LIGHTING);
@@ -180,7 +179,8 @@ void SceneView::draw_hands(const SceneSnapshot& snapshot, const render::Camera& 
   const double extent = view_half_extent(camera, camera.target());
   for (std::size_t h = 0; h < m_grasps_in_body.size(); ++h) {
     const haptic::CycleRecord& record = snapshot.records[h];
-    const Eigen::Vector3d grasp = snapshot.held_poses[h] * m_grasps_in_body[h];
+    const Eigen::Vector3d grasp =
+        snapshot.poses[static_cast<std::size_t>(m_held_objects[h])] * m_grasps_in_body[h];
     const Eigen::Vector3d& device = record.manipulandum.position;
     glLineWidth(1.5f);
     set_color(m_colors.traversed_color);

@@ -56,6 +56,7 @@ class SceneView {
   SnapshotPoints m_points;
   std::vector<std::unique_ptr<Body>> m_bodies;
   std::vector<int> m_hand_of;                     // per object: the hand holding it, or −1
+  std::vector<int> m_held_objects;                // per hand: the object it holds
   std::vector<Eigen::Vector3d> m_grasps_in_body;  // per hand
   double m_radius = 1.0;                          // the scene's (m)
   double m_reference_force;  // N drawn as long as the scene's radius (while short)

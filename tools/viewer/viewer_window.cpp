@@ -25,7 +25,8 @@ void report_glfw_error(int code, const char* description) {
 ViewerWindow::ViewerWindow(const std::string& title, int width, int height,
                            const run::SceneFraming& framing, CursorDrag& drag,
                            std::function<void(const Eigen::Vector3d&)> on_target)
-    : m_orbit(framing, run::FrameOptions().view_direction, run::FrameOptions().up),
+    : m_orbit(framing, framing.turned(run::FrameOptions().view_direction),
+              framing.turned(run::FrameOptions().up)),
       m_drag(drag),
       m_on_target(std::move(on_target)) {
   if (width < 16 || height < 16) throw reduced::Error("the window needs at least 16×16 pixels");

@@ -15,7 +15,8 @@ render::Camera frame_camera(const scene::SceneRuntime& runtime, const FrameOptio
   }
   const SceneFraming framing = frame_scene(runtime);
   radius = framing.radius;
-  return framing.camera(options.view_direction, options.up, options.width, options.height);
+  return framing.camera(framing.turned(options.view_direction), framing.turned(options.up),
+                        options.width, options.height);
 }
 
 }  // namespace
@@ -32,14 +33,15 @@ double arrow_reference_force(const scene::SceneDescription& scene, double arrow_
 }
 
 FrameRenderer::FrameRenderer(const scene::SceneRuntime& runtime, const FrameOptions& options)
-    : m_options(options),
-      m_held(runtime.description().objects.size(), false),
-      m_camera(frame_camera(runtime, options, m_scene_radius)) {
+    : m_options(options), m_camera(frame_camera(runtime, options, m_scene_radius)) {
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
     m_triangles.push_back(runtime.surface(i).triangles);
+    m_colors.push_back(runtime.description().objects[static_cast<std::size_t>(i)].is_dynamic()
+                           ? options.free_color
+                           : options.other_color);
   }
   for (int h = 0; h < runtime.hand_count(); ++h) {
-    m_held[static_cast<std::size_t>(runtime.held_object(h))] = true;
+    m_colors[static_cast<std::size_t>(runtime.held_object(h))] = options.held_color;
   }
   m_reference_force = arrow_reference_force(runtime.description(), options.arrow_force);
 }
@@ -48,7 +50,7 @@ render::Image FrameRenderer::render(const FrameContent& frame, FrameSummary* sum
   render::Rasterizer rasterizer(m_camera);
   for (std::size_t i = 0; i < frame.surfaces.size(); ++i) {
     render::MeshStyle style;
-    style.color = m_held[i] ? m_options.held_color : m_options.other_color;
+    style.color = m_colors[i];
     style.smooth = shade_smoothly(m_triangles[i]);
     rasterizer.draw_mesh(frame.surfaces[i], m_triangles[i], style);
   }

@@ -20,10 +20,12 @@ bool HeldStillDevice::read(haptic::DeviceState& state) noexcept {
   if (!m_device->read(state)) return false;
   if (!m_held && state.time >= m_hold_time) {
     m_pose = state.pose;
+    m_buttons = state.buttons;
     m_held = true;
   }
   if (m_held) {
     state.pose = m_pose;
+    state.buttons = m_buttons;
     state.linear_velocity.setZero();
     state.angular_velocity.setZero();
   }

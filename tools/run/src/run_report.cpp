@@ -175,6 +175,23 @@ void write_markdown(const std::filesystem::path& file, const ReportInput& input,
       << "![torque](" << files.torque_plot.filename().string() << ")\n\n"
       << "![cost per cycle](" << files.cost_plot.filename().string() << ")\n\n";
   write_metrics(out, input.metrics, files);
+  if (!input.free_bodies.empty()) {
+    out << "## Free objects\n\nWhere the run left the objects that move freely (scene "
+           "\"dynamics\"), their centre of mass against where it started.\n\n"
+           "| object | moved | centre at the end (m) | at the end |\n|---|---|---|---|\n";
+    for (const FreeBodyState& body : input.free_bodies) {
+      out << "| " << body.name << " | " << format("%.4f m", (body.centre - body.start).norm())
+          << " | " << format("[%.4f, ", body.centre.x()) << format("%.4f, ", body.centre.y())
+          << format("%.4f]", body.centre.z()) << " | "
+          << (body.hand >= 0 ? "grasped by hand " + std::to_string(body.hand)
+              : body.asleep  ? std::string("at rest")
+                             : format("moving at %.3g m/s", body.speed))
+          << " |\n";
+    }
+    out << "\nThe speed-against-error replay below places the held objects as recorded and leaves "
+           "the free ones where the run left them: it measures the query on those poses, not on "
+           "the run's contacts with the free objects.\n\n";
+  }
   if (!input.sweep.empty()) {
     out << "## Speed against error of the contact query\n\n"
         << "The recorded states in contact (" << input.sweep.front().states
@@ -195,7 +212,8 @@ void write_markdown(const std::filesystem::path& file, const ReportInput& input,
   if (!input.stability.empty()) write_stability(out, input.stability, files);
   if (!input.frames.empty()) {
     out << "## Frames\n\nYellow: pointshell points the query looked at; red: points in contact "
-           "(drawn through the other object); green: the contact force on the held object.\n\n";
+           "(drawn through the other object), blue where their friction slid; green: the contact "
+           "force on the held object. Held objects are blue, free ones pale green.\n\n";
     for (const std::filesystem::path& frame : input.frames) {
       out << "![" << frame.stem().string() << "](" << frame.string() << ")\n";
     }

@@ -1,16 +1,22 @@
 #include <khz/run/scene_framing.hpp>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 
 namespace khz::run {
 
 render::Camera SceneFraming::camera(const Eigen::Vector3d& view_direction,
-                                    const Eigen::Vector3d& up, int width, int height) const {
+                                    const Eigen::Vector3d& view_up, int width, int height) const {
   const double fov = std::min(scene_vertical_fov, scene_vertical_fov * width / height);
   const double distance = 1.05 * radius / std::sin(0.5 * fov);
   const Eigen::Vector3d eye = centre + distance * view_direction.normalized();
-  return render::Camera(eye, centre, up, scene_vertical_fov, width, height);
+  return render::Camera(eye, centre, view_up, scene_vertical_fov, width, height);
+}
+
+Eigen::Vector3d SceneFraming::turned(const Eigen::Vector3d& direction) const {
+  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitY(), up) * direction;
 }
 
 SceneFraming frame_scene(const scene::SceneRuntime& runtime) {
@@ -24,6 +30,13 @@ SceneFraming frame_scene(const scene::SceneRuntime& runtime) {
   SceneFraming framing;
   framing.centre = box.center();
   framing.radius = std::max(0.5 * box.diagonal().norm(), 1e-6);
+  const scene::SceneDescription& scene = runtime.description();
+  const bool free_objects =
+      std::any_of(scene.objects.begin(), scene.objects.end(),
+                  [](const scene::ObjectDescription& o) { return o.is_dynamic(); });
+  if (free_objects && scene.dynamics.gravity.norm() > 0.0) {
+    framing.up = -scene.dynamics.gravity.normalized();
+  }
   return framing;
 }
 

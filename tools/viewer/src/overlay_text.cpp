@@ -34,9 +34,13 @@ std::vector<std::string> overlay_status(const OverlayRates& rates,
     if (!record.contact_valid) {
       lines.emplace_back("  no contact query this cycle (none yet, or it refused its input)");
     } else {
-      lines.push_back(formatted("  %lld points in contact, deepest level %d%s",
+      const std::string sliding =
+          statistics.points_sliding > 0
+              ? formatted(" (%lld sliding)", static_cast<long long>(statistics.points_sliding))
+              : std::string();
+      lines.push_back(formatted("  %lld points in contact%s, deepest level %d%s",
                                 static_cast<long long>(statistics.points_in_contact),
-                                statistics.deepest_level,
+                                sliding.c_str(), statistics.deepest_level,
                                 statistics.complete ? "" : ", cut short by degradation"));
     }
   }

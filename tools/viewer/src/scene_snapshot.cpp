@@ -17,6 +17,10 @@ SnapshotLayout::SnapshotLayout(const scene::SceneRuntime& runtime) : m_offsets{0
                          " reduced coordinates in all; this scene's reduced objects have " +
                          std::to_string(m_offsets.back()));
   }
+  if (object_count() > SceneSnapshot::max_objects) {
+    throw reduced::Error("the viewer draws at most " + std::to_string(SceneSnapshot::max_objects) +
+                         " objects; this scene has " + std::to_string(object_count()));
+  }
   m_hands = runtime.hand_count();
   if (m_hands > SceneSnapshot::max_hands) {
     throw reduced::Error("the viewer draws at most " + std::to_string(SceneSnapshot::max_hands) +
@@ -34,7 +38,9 @@ void SnapshotLayout::capture(const scene::SceneRuntime& runtime,
   const std::span<const haptic::CycleRecord> records = runtime.world().records();
   for (int h = 0; h < m_hands; ++h) {
     snapshot.records[static_cast<std::size_t>(h)] = records[static_cast<std::size_t>(h)];
-    snapshot.held_poses[static_cast<std::size_t>(h)] = runtime.pose(runtime.held_object(h));
+  }
+  for (int i = 0; i < object_count(); ++i) {
+    snapshot.poses[static_cast<std::size_t>(i)] = runtime.pose(i);
   }
   for (std::size_t i = 0; i + 1 < m_offsets.size(); ++i) {
     const reduced::ReducedIntegrator* integrator = runtime.integrator(static_cast<int>(i));

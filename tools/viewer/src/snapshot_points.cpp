@@ -6,11 +6,7 @@ SnapshotPoints::SnapshotPoints(const scene::SceneRuntime& runtime, const Snapsho
     : m_layout(layout) {
   const haptic::World& world = runtime.world();
   m_bodies.assign(world.bodies().begin(), world.bodies().end());
-  m_hand_of.assign(m_bodies.size(), -1);
   m_field_states.resize(m_bodies.size());
-  for (int h = 0; h < runtime.hand_count(); ++h) {
-    m_hand_of[static_cast<std::size_t>(runtime.held_object(h))] = h;
-  }
   for (std::size_t i = 0; i < m_bodies.size(); ++i) {
     haptic::Body& body = m_bodies[i];
     body.integrator = nullptr;  // q comes from the snapshot
@@ -32,8 +28,7 @@ SnapshotPoints::~SnapshotPoints() = default;
 
 const std::vector<run::PointPicture>& SnapshotPoints::classify(const SceneSnapshot& snapshot) {
   for (std::size_t i = 0; i < m_bodies.size(); ++i) {
-    const int hand = m_hand_of[i];
-    if (hand >= 0) m_bodies[i].pose = snapshot.held_poses[static_cast<std::size_t>(hand)];
+    m_bodies[i].pose = snapshot.poses[i];
     if (m_field_states[i] != nullptr) {
       // Refused only if the haptic thread's own update() refused the same q; keep the last.
       m_field_states[i]->update(m_layout.coordinates(snapshot, static_cast<int>(i)));

@@ -16,11 +16,14 @@ namespace khz::run {
 struct FrameOptions {
   int width = 800;   ///< Pixels, ≥ 16.
   int height = 600;  ///< Pixels, ≥ 16.
-  /// Direction from the scene's centre to the eye (world; need not be unit, not parallel to
-  /// `up`). The eye is placed where the scene's bounding sphere just fits the view.
+  /// Direction from the scene's centre to the eye (need not be unit, not parallel to `up`). The
+  /// eye is placed where the scene's bounding sphere just fits the view. This and `up` are world
+  /// directions in a scene whose up is y, and are turned with it in one with free objects under
+  /// another gravity (SceneFraming::up, turned()).
   Eigen::Vector3d view_direction{1.0, 0.8, 1.6};
-  Eigen::Vector3d up = Eigen::Vector3d::UnitY();  ///< World direction shown upwards.
+  Eigen::Vector3d up = Eigen::Vector3d::UnitY();  ///< Direction shown upwards.
   render::Color held_color{120, 160, 230};        ///< The held objects' surfaces.
+  render::Color free_color{150, 205, 140};        ///< Free objects' (scene "dynamics").
   render::Color other_color{200, 200, 195};       ///< Every other object's surface.
   render::Color traversed_color{250, 200, 40};    ///< Points looked at, not in contact.
   render::Color contact_color{220, 30, 30};       ///< Points in contact (stuck, or no friction).
@@ -63,7 +66,7 @@ class FrameRenderer {
 
  private:
   FrameOptions m_options;
-  std::vector<bool> m_held;                          // per object: whether a hand holds it
+  std::vector<render::Color> m_colors;               // per object: held, free or other
   std::vector<reduced::TriangleMatrix> m_triangles;  // per object
   double m_reference_force = 1.0;                    // N drawn as long as the scene's radius
   double m_scene_radius = 0.0;  // set while m_camera is made: declared before it

@@ -7,15 +7,16 @@
 #include <khz/run/run_scene.hpp>
 #include <khz/scene/prepared_scene.hpp>
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
 namespace khz::run {
 
 /// Wraps a device (owned) and, from the first reading at or after `hold_time` (s, the device's
-/// clock), reports the pose of that reading at rest: zero velocities, the clock and buttons as
-/// the device gives them. Everything else is the wrapped device's. Faults pass through (a failed
-/// read still fails).
+/// clock), reports the pose and buttons of that reading at rest (zero velocities; a hand holding
+/// still lets go of nothing it grasps), the clock as the device gives it. Everything else is the
+/// wrapped device's. Faults pass through (a failed read still fails).
 class HeldStillDevice final : public haptic::Device {
  public:
   HeldStillDevice(std::unique_ptr<haptic::Device> device, double hold_time);
@@ -34,6 +35,7 @@ class HeldStillDevice final : public haptic::Device {
   double m_hold_time;
   bool m_held = false;
   haptic::Pose m_pose;
+  std::uint32_t m_buttons = 0;
 };
 
 /// A steady press and what it showed.

@@ -6,6 +6,7 @@
 
 #include <khz/run/contact_sweep.hpp>
 #include <khz/run/cycle_log.hpp>
+#include <khz/run/free_bodies.hpp>
 #include <khz/run/run_summary.hpp>
 #include <khz/run/stability_map.hpp>
 
@@ -28,6 +29,8 @@ struct ReportInput {
   std::vector<StabilityPoint> stability;
   /// Frame pictures to show, relative to the report's directory.
   std::vector<std::filesystem::path> frames;
+  /// Where the run left the scene's free objects (empty: none).
+  std::vector<FreeBodyState> free_bodies;
 };
 
 /// The files write_report() makes, in `directory`.

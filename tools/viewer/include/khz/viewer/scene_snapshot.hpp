@@ -21,12 +21,16 @@ struct SceneSnapshot {
   static constexpr int max_hands = 4;
   /// The most contact pairs (haptic::World::pairs()) a scene may have in the viewer.
   static constexpr int max_pairs = 64;
+  /// The most objects a scene may have in the viewer.
+  static constexpr int max_objects = 32;
   /// The cycle, per hand (the first SnapshotLayout::hand_count() entries): the held object's
   /// grasp frame (`simulation`), the device's (`manipulandum`), the contact force (N) and the
   /// query's counters.
   std::array<haptic::CycleRecord, max_hands> records{};
-  /// Per hand, its held object's pose at the cycle's query (world ← body).
-  std::array<Eigen::Isometry3d, max_hands> held_poses{};
+  /// Per object (the first SnapshotLayout::object_count() entries), its pose after the cycle
+  /// (world ← body): a held object's at the cycle's query, a free one's after its step, a fixed
+  /// one's as ever.
+  std::array<Eigen::Isometry3d, max_objects> poses{};
   /// Every reduced object's q after the cycle's time step, object after object
   /// (SnapshotLayout says where each starts).
   std::array<double, max_coordinates> coordinates{};
@@ -42,12 +46,14 @@ class SnapshotLayout {
  public:
   /// @throws reduced::Error if the reduced objects have more than
   ///         SceneSnapshot::max_coordinates coordinates in all, the scene more than
-  ///         SceneSnapshot::max_hands hands or its World more than SceneSnapshot::max_pairs pairs.
+  ///         SceneSnapshot::max_hands hands or SceneSnapshot::max_objects objects, or its World
+  ///         more than SceneSnapshot::max_pairs pairs.
   explicit SnapshotLayout(const scene::SceneRuntime& runtime);
 
   int hand_count() const noexcept { return m_hands; }
+  int object_count() const noexcept { return static_cast<int>(m_offsets.size()) - 1; }
   int pair_count() const noexcept { return m_pairs; }
-  /// Writes the runtime's last records, its held objects' poses, every reduced object's current
+  /// Writes the runtime's last records, every object's pose, every reduced object's current
   /// q and every pair's deepest level into `snapshot`. noexcept and allocation-free: for the
   /// haptic thread, right after the cycle.
   void capture(const scene::SceneRuntime& runtime, SceneSnapshot& snapshot) const noexcept;

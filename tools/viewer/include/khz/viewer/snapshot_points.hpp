@@ -53,7 +53,6 @@ class SnapshotPoints {
 
   const SnapshotLayout& m_layout;
   std::vector<haptic::Body> m_bodies;  // the World's, without integrators, own deformed fields
-  std::vector<int> m_hand_of;          // per body: the hand holding it, or −1
   std::vector<std::unique_ptr<contact::DeformedFieldState>> m_field_states;  // per body, or null
   std::vector<Pair> m_pairs;
   std::vector<run::PointPicture> m_pictures;
