@@ -171,6 +171,12 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
   ASSERT_TRUE(contact_frame.has_value());
   EXPECT_GT(contact_frame->in_contact, 0);
   EXPECT_GT(contact_frame->traversed, 0);
+  // The sweep replays the held objects' recorded poses; free objects stay where the run left
+  // them (the peg in its hole), so the replayed states need not touch anything.
+  if (std::any_of(description.objects.begin(), description.objects.end(),
+                  [](const ObjectDescription& o) { return o.is_dynamic(); })) {
+    return;
+  }
 
   const std::vector<run::SweepSetting> settings =
       run::default_sweep(description.contact, run::tree_levels(prepared));
@@ -265,10 +271,14 @@ TEST_P(SmallExample, IsSmoothKeepsOutAndSettlesInASteadyPress) {
   const bool rings =
       std::any_of(prepared.objects.begin(), prepared.objects.end(),
                   [](const PreparedObject& o) { return o.deformed_field != nullptr; });
+  // A free object the held one was pushing when the hold began slides on, and the held one
+  // follows it until friction stops it: motion, not jitter, judged after 1 s too.
+  const bool pushes_on = std::any_of(description.objects.begin(), description.objects.end(),
+                                     [](const ObjectDescription& o) { return o.is_dynamic(); });
   for (std::size_t h = 0; h < pressed.size(); ++h) {
     SCOPED_TRACE("steady press, hand " + std::to_string(h));
     const Motion early = motion(pressed[h], 0.3), late = motion(pressed[h], 1.0);
-    const Motion& judged = rings ? late : early;
+    const Motion& judged = rings || pushes_on ? late : early;
     EXPECT_GE(judged.cycles, 150);
     EXPECT_LE(judged.step, 1e-6);
     EXPECT_LE(judged.turn, 1e-4);
@@ -285,7 +295,8 @@ TEST_P(SmallExample, IsSmoothKeepsOutAndSettlesInASteadyPress) {
 INSTANTIATE_TEST_SUITE_P(Examples, SmallExample,
                          testing::Values("dragon_on_dino", "dragon_on_deformable_dino",
                                          "million_point_bunny", "bunny_on_dino", "alpha_puzzle",
-                                         "peg_in_hole", "two_hand_peg_in_hole"),
+                                         "peg_in_hole", "two_hand_peg_in_hole", "block_push",
+                                         "pick_and_place"),
                          [](const testing::TestParamInfo<std::string>& example) {
                            return example.param;
                          });
