@@ -753,5 +753,108 @@ TEST(HapticHardCases, StartingTurnedAwayFromTheHeldObjectGivesNoTorqueKick) {
   std::printf("start turned: strongest rendered torque %.4f N m\n", strongest);
 }
 
+// ---------------------------------------------------------------------------------------------
+// 11. The cases with friction (issue 20): μ_s = 0.5, μ_k = 0.4 on every contact.
+
+// Three of the cases again with friction: the peg thrown along its shaft and pushed into a wall,
+// the box thrown between its planes, the ball pressed onto the floor and slid. Friction adds
+// tangential stiffness at every stuck point and switches points between stick and slip, so each
+// must still stay finite, take no step beyond d_max, keep within a voxel of penetration, render
+// no more stiffness than k_VC and give the device no energy once the hand holds still; and
+// friction must have acted: points stuck, and on the floor they slid (the peg and the box are
+// clamped: their walls' friction holds more than the saturated coupling pulls). The ball's path
+// is closed (pressed, slid out and back, lifted to where it started): over it the hand gave the
+// simulation energy (the passivity observer ends above zero) and got none back, friction only
+// dissipating.
+TEST(HapticHardCases, WithFrictionThePegTheBoxAndTheBallStayStableAndSafe) {
+  contact::ContactOptions options = contact_options(HapticObject::pointshell);
+  options.friction.static_coefficient = 0.5;
+  options.friction.kinetic_coefficient = 0.4;
+  const auto check = [&](const char* name, const PairScene& scene, TargetFunction target,
+                         const std::function<double(const Pose&)>& penetration, double radius,
+                         const Eigen::Vector3d& direction, bool slides, int cycles) {
+    SCOPED_TRACE(name);
+    Harness run(std::move(target), scene, coupling_options(radius), penetration);
+    run.run(cycles);
+    const std::vector<Sample>& trace = run.trace();
+    EXPECT_EQ(first_non_finite(trace), trace.size());
+    std::int64_t sliding = 0, stuck = 0, invalid = 0, too_far = 0;
+    for (std::size_t i = 1; i < trace.size(); ++i) {
+      const CycleRecord& r = trace[i].record;
+      invalid += r.device_valid && r.contact_valid && r.coupling_valid ? 0 : 1;
+      const double step = (r.simulation.position - trace[i - 1].record.simulation.position).norm();
+      too_far += step <= max_step() * (1.0 + round_off) ? 0 : 1;
+      sliding += r.contact.statistics.points_sliding;
+      stuck += r.contact.statistics.points_in_contact - r.contact.statistics.points_sliding;
+    }
+    EXPECT_EQ(invalid, 0) << "cycles with an invalid reading, query or coupling step";
+    EXPECT_EQ(too_far, 0) << "cycles that moved the held object beyond d_max";
+    EXPECT_EQ(sliding > 0, slides);
+    EXPECT_GT(stuck, 0);
+    expect_safe_ending(run, direction);
+    return trace.back().record.observed_energy;
+  };
+
+  const Eigen::Vector3d peg_half(0.01, 0.01, 0.03);
+  const contact::PointTree peg =
+      nested_tree(box_pointshell(Eigen::Vector3d::Zero(), peg_half, 2.5e-3), 14);
+  const contact::ImplicitUnion shaft = square_shaft(peg_half.x() - 2.5e-4);
+  check(
+      "peg in its shaft",
+      PairScene(peg, shaft, options, Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity()),
+      keyframe_target({{0.0, at(Eigen::Vector3d::Zero())},
+                       {0.1, at(Eigen::Vector3d::Zero())},
+                       {0.2, at({0.0, 0.0, 0.08})},
+                       {0.6, at({0.0, 0.0, 0.08})},
+                       {0.65, at({0.0, 0.0, -0.08})},
+                       {1.0, at({0.0, 0.0, -0.08})},
+                       {1.1, at(Eigen::Vector3d::Zero())},
+                       {1.6, at(Eigen::Vector3d::Zero())},
+                       {1.7, at({0.03, 0.0, 0.0})}}),
+      [&](const Pose& grasp) {
+        return deepest_penetration(peg.pointshell().points, shaft,
+                                   held_body_pose(grasp, Eigen::Vector3d::Zero()));
+      },
+      peg_half.norm(), Eigen::Vector3d::UnitX(), false, 3000);
+
+  const Eigen::Vector3d box_half(0.02, 0.02, 0.01);
+  const contact::PointTree box =
+      nested_tree(box_pointshell(Eigen::Vector3d::Zero(), box_half, 2.5e-3), 12);
+  const double gap = box_half.z() - 2.5e-4;
+  const contact::ImplicitUnion planes(
+      {contact::ImplicitShape(contact::HalfSpace(Eigen::Vector3d::UnitZ(), -gap)),
+       contact::ImplicitShape(contact::HalfSpace(-Eigen::Vector3d::UnitZ(), -gap))});
+  const Eigen::Vector3d far(0.1, 0.1, 0.0);
+  check(
+      "box between planes",
+      PairScene(box, planes, options, Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity()),
+      keyframe_target({{0.0, at(Eigen::Vector3d::Zero())},
+                       {0.1, at(Eigen::Vector3d::Zero())},
+                       {0.13, at(far)},
+                       {0.7, at(far)},
+                       {0.73, at(Eigen::Vector3d::Zero())}}),
+      [&](const Pose& grasp) {
+        return deepest_penetration(box.pointshell().points, planes,
+                                   held_body_pose(grasp, Eigen::Vector3d::Zero()));
+      },
+      box_half.norm(), Eigen::Vector3d::UnitZ(), false, 3000);
+
+  BallOnFloor b;
+  const double radius = BallOnFloor::radius;
+  const double energy = check(
+      "ball pressed, slid out and back and lifted",
+      PairScene(b.ball, b.floor, options, Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity()),
+      keyframe_target({{0.0, at({0.0, 0.0, radius + 0.02})},
+                       {0.3, at({0.0, 0.0, b.pressed})},
+                       {0.5, at({0.0, 0.0, b.pressed})},
+                       {1.5, at({0.05, 0.0, b.pressed})},
+                       {1.6, at({0.05, 0.02, b.pressed})},
+                       {2.6, at({0.0, 0.0, b.pressed})},
+                       {2.9, at({0.0, 0.0, radius + 0.02})}}),
+      b.penetration(), radius, -Eigen::Vector3d::UnitZ(), true, 4500);
+  EXPECT_GT(energy, 0.0) << "friction dissipated the hand's work";
+  std::printf("ball's closed path with friction: the hand did %.4g J of work on it\n", energy);
+}
+
 }  // namespace
 }  // namespace khz::haptic::hard_cases

@@ -71,10 +71,11 @@ struct World::Data {
     FreeBodyMotion motion;
     contact::ContactWrench wrench;  // Σ over its queries, about its centre of mass
     // Σ over its queries of s K, each pair's 6×6 stiffness scaled by s = 1 + β / h where the
-    // pair is damped (DynamicsOptions::contact_damping), and of s K u_o, with u_o the other
-    // body's motion seen as a motion of this one: the step's matrix M − h² Σ s K and its right
-    // side h (f + h Σ s K (u − u_o)) are backward Euler, linearized, for the contact springs and
-    // their damping β K, on the motion relative to what the body touches.
+    // pair is damped (DynamicsOptions::contact_damping), and of K u_o over the undamped pairs
+    // with a free body that is awake, u_o its motion seen as a motion of this one
+    // (add_to_step()): the step's matrix M − h² Σ s K and its right side h (f + h Σ s K u −
+    // h Σ K u_o) are backward Euler, linearized, for the contact springs and their damping β K,
+    // on the motion relative to what the body touches.
     Eigen::Matrix<double, 6, 6> stepped_stiffness = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> carried = Eigen::Matrix<double, 6, 1>::Zero();
     double gyration_radius = 0.0;  // √(trace I / m), m: turning speed as a point speed
