@@ -137,6 +137,20 @@ contact::ImplicitUnion square_shaft(double a) {
   return contact::ImplicitUnion(std::move(walls));
 }
 
+/// Case 2's hand: it throws the peg 8 cm up its shaft in 0.1 s, 16 cm down in 50 ms, back, then
+/// pushes it into the +x wall.
+TargetFunction peg_in_shaft_script() {
+  return keyframe_target({{0.0, at(Eigen::Vector3d::Zero())},
+                          {0.1, at(Eigen::Vector3d::Zero())},
+                          {0.2, at({0.0, 0.0, 0.08})},
+                          {0.6, at({0.0, 0.0, 0.08})},
+                          {0.65, at({0.0, 0.0, -0.08})},
+                          {1.0, at({0.0, 0.0, -0.08})},
+                          {1.1, at(Eigen::Vector3d::Zero())},
+                          {1.6, at(Eigen::Vector3d::Zero())},
+                          {1.7, at({0.03, 0.0, 0.0})}});
+}
+
 /// Unwrapped rotation angles about `axis` (rad): the sum of the per-cycle turns, so 270° is
 /// 4.71 rad and not −1.57.
 std::vector<double> unwrapped_angles(const std::vector<Sample>& trace, const Eigen::Vector3d& axis,
@@ -168,19 +182,10 @@ TEST(HapticHardCases, APegMovedFastAlongItsShaftSlidesWithItAndCannotLeaveSidewa
   const PairScene scene(peg, shaft, contact_options(HapticObject::pointshell),
                         Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity());
   const CouplingOptions options = coupling_options(half.norm());
-  Harness run(keyframe_target({{0.0, at(Eigen::Vector3d::Zero())},
-                               {0.1, at(Eigen::Vector3d::Zero())},
-                               {0.2, at({0.0, 0.0, 0.08})},
-                               {0.6, at({0.0, 0.0, 0.08})},
-                               {0.65, at({0.0, 0.0, -0.08})},
-                               {1.0, at({0.0, 0.0, -0.08})},
-                               {1.1, at(Eigen::Vector3d::Zero())},
-                               {1.6, at(Eigen::Vector3d::Zero())},
-                               {1.7, at({0.03, 0.0, 0.0})}}),
-              scene, options, [&](const Pose& grasp) {
-                return deepest_penetration(peg.pointshell().points, shaft,
-                                           held_body_pose(grasp, Eigen::Vector3d::Zero()));
-              });
+  Harness run(peg_in_shaft_script(), scene, options, [&](const Pose& grasp) {
+    return deepest_penetration(peg.pointshell().points, shaft,
+                               held_body_pose(grasp, Eigen::Vector3d::Zero()));
+  });
   run.run(1600);
   // Along the shaft nothing resists: the quasi-static rendered stiffness along z is zero.
   const double along =
@@ -802,15 +807,7 @@ TEST(HapticHardCases, WithFrictionThePegTheBoxAndTheBallStayStableAndSafe) {
   check(
       "peg in its shaft",
       PairScene(peg, shaft, options, Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity()),
-      keyframe_target({{0.0, at(Eigen::Vector3d::Zero())},
-                       {0.1, at(Eigen::Vector3d::Zero())},
-                       {0.2, at({0.0, 0.0, 0.08})},
-                       {0.6, at({0.0, 0.0, 0.08})},
-                       {0.65, at({0.0, 0.0, -0.08})},
-                       {1.0, at({0.0, 0.0, -0.08})},
-                       {1.1, at(Eigen::Vector3d::Zero())},
-                       {1.6, at(Eigen::Vector3d::Zero())},
-                       {1.7, at({0.03, 0.0, 0.0})}}),
+      peg_in_shaft_script(),
       [&](const Pose& grasp) {
         return deepest_penetration(peg.pointshell().points, shaft,
                                    held_body_pose(grasp, Eigen::Vector3d::Zero()));
