@@ -314,6 +314,35 @@ TEST(WorldDynamics, ACycleAllocatesNothing) {
   EXPECT_EQ(test::allocation_count, 0u);
 }
 
+// A free body placed somewhere (to replay a recorded state) is at rest there, awake, and a probe
+// queries its pairs; a fixed, a grasped or an unknown body, or a pose that is not finite, is
+// refused and nothing moves.
+TEST(WorldDynamics, AFreeBodyPlacedForAProbeIsQueriedWhereItWasPut) {
+  SetHand hand;
+  const Eigen::Vector3d on_box(0.0, 0.0, 2 * half_side + ball_radius - 0.005);
+  World world = gripper_box_and_floor(hand, on_box);
+  run(world, 400);
+  Eigen::Isometry3d sunk = Eigen::Isometry3d::Identity();
+  sunk.translation() = Eigen::Vector3d(0.1, 0.0, half_side - 0.001);  // 1 mm into the floor
+  ASSERT_EQ(world.grasp(0), 1);
+  EXPECT_FALSE(world.place_free_body(1, sunk)) << "grasped";
+  ASSERT_EQ(world.release(0), 1);
+  EXPECT_FALSE(world.place_free_body(2, sunk)) << "the floor is fixed";
+  EXPECT_FALSE(world.place_free_body(7, sunk));
+  Eigen::Isometry3d broken = sunk;
+  broken.translation().x() = std::nan("");
+  EXPECT_FALSE(world.place_free_body(1, broken));
+
+  ASSERT_TRUE(world.place_free_body(1, sunk));
+  EXPECT_FALSE(world.asleep(1));
+  EXPECT_EQ(world.motion(1)->velocity(), Eigen::Vector3d::Zero());
+  EXPECT_EQ(world.bodies()[1].pose.translation(), sunk.translation());
+  const Pose grasps[] = {hard_cases::at(on_box + Eigen::Vector3d(0, 0, 0.05))};
+  ASSERT_TRUE(world.probe(grasps));
+  // The floor pushes the sunk box up with L k_C × 1 mm = 20 N (its 100 bottom points, ℓ > L).
+  EXPECT_NEAR(world.body_wrench(1).force.z(), 20.0, 0.01 * 20.0);
+}
+
 TEST(WorldDynamics, RefusesBadSetUpsNamingTheBody) {
   SetHand hand;
   const auto refuses = [](std::vector<Body> bodies, std::vector<Hand> hands, const char* message) {

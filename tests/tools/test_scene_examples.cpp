@@ -171,12 +171,6 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
   ASSERT_TRUE(contact_frame.has_value());
   EXPECT_GT(contact_frame->in_contact, 0);
   EXPECT_GT(contact_frame->traversed, 0);
-  // The sweep replays the held objects' recorded poses; free objects stay where the run left
-  // them (the peg in its hole), so the replayed states need not touch anything.
-  if (std::any_of(description.objects.begin(), description.objects.end(),
-                  [](const ObjectDescription& o) { return o.is_dynamic(); })) {
-    return;
-  }
 
   const std::vector<run::SweepSetting> settings =
       run::default_sweep(description.contact, run::tree_levels(prepared));

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <iostream>
 #include <memory>
+#include <utility>
 
 namespace khz::tool {
 namespace {
@@ -30,6 +31,8 @@ void report(const RunRequest& request, bool stability) {
   SceneSession session(request);
   RunResult result = session.run(true);
   scene::SceneRuntime& runtime = session.runtime();
+  // Where the run left the free objects, before the sweep moves them.
+  std::vector<run::FreeBodyState> free_bodies = run::free_body_states(runtime);
   const std::vector<run::SweepSetting> settings =
       run::default_sweep(runtime.description().contact, run::tree_levels(runtime.prepared()));
   std::cout << "speed against error: " << settings.size() << " settings over the states in "
@@ -77,7 +80,7 @@ void report(const RunRequest& request, bool stability) {
   input.sweep = sweep;
   input.stability = std::move(stability_points);
   input.frames = some_frames(result.frames, session.out(), 4);
-  input.free_bodies = run::free_body_states(runtime);
+  input.free_bodies = std::move(free_bodies);
   const run::ReportFiles files = run::write_report(session.out(), input);
   std::cout << "wrote " << files.markdown.string() << "\n";
 }

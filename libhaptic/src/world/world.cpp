@@ -713,6 +713,20 @@ int World::release(int hand) noexcept {
   return released;
 }
 
+bool World::place_free_body(int index, const Eigen::Isometry3d& pose) noexcept {
+  Data& d = *m_data;
+  if (index < 0 || index >= static_cast<int>(d.bodies.size())) return false;
+  Data::DynamicState* body = d.dynamic(index);
+  if (body == nullptr || body->hand >= 0 ||
+      !body->motion.set_state(pose, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero())) {
+    return false;
+  }
+  d.bodies[static_cast<std::size_t>(index)].pose = pose;
+  body->asleep = false;
+  body->still_time = 0.0;
+  return true;
+}
+
 void World::reset_contact() noexcept {
   for (Data::PairState& pair : m_data->pair_states) pair.workspace->reset();
 }

@@ -16,6 +16,7 @@ RecordedState record_state(const scene::SceneRuntime& runtime) {
   }
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
     state.coordinates.push_back(runtime.coordinates(i));
+    if (runtime.world().motion(i) != nullptr) state.free_poses.push_back(runtime.pose(i));
   }
   return state;
 }
@@ -54,10 +55,22 @@ std::vector<SweepSetting> default_sweep(const contact::ContactOptions& scene_opt
 
 namespace {
 
-void apply(scene::SceneRuntime& runtime, const RecordedState& state) {
+/// The scene's free objects (dynamic World bodies), in its order.
+std::vector<int> free_objects(const scene::SceneRuntime& runtime) {
+  std::vector<int> objects;
+  for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
+    if (runtime.world().motion(i) != nullptr) objects.push_back(i);
+  }
+  return objects;
+}
+
+void apply(scene::SceneRuntime& runtime, const RecordedState& state, const std::vector<int>& free) {
   for (std::size_t i = 0; i < state.coordinates.size(); ++i) {
     if (state.coordinates[i].size() > 0)
       runtime.set_coordinates(static_cast<int>(i), state.coordinates[i]);
+  }
+  for (std::size_t k = 0; k < free.size() && k < state.free_poses.size(); ++k) {
+    runtime.world().place_free_body(free[k], state.free_poses[k]);
   }
 }
 
@@ -68,23 +81,25 @@ struct Replay {
 
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
-/// Every state's force and torque per hand (state-major), cost and nodes over all pairs;
-/// `stage` reports one unit a state.
+/// Every state's force and torque per hand, then per free object (state-major), cost and
+/// nodes over all pairs; `stage` reports one unit a state.
 Replay replay(scene::SceneRuntime& runtime, const std::vector<const RecordedState*>& states,
               const contact::ContactOptions& options, reduced::StageProgress& stage) {
   haptic::World& world = runtime.world();
   world.set_contact_options(options);
+  const std::vector<int> free = free_objects(runtime);
   Replay r;
   for (const RecordedState* state : states) {
-    apply(runtime, *state);
+    apply(runtime, *state, free);
     const bool ok = world.probe(state->grasps);
     contact::ContactStatistics statistics;
-    for (int h = 0; h < world.hand_count(); ++h) {
-      const contact::ContactWrench& wrench = world.wrench(h);
+    const auto add = [&](const contact::ContactWrench& wrench) {
       r.force.push_back(ok ? wrench.force : Eigen::Vector3d::Constant(nan));
       r.torque.push_back(ok ? wrench.torque : Eigen::Vector3d::Constant(nan));
       statistics.accumulate(wrench.statistics);
-    }
+    };
+    for (int h = 0; h < world.hand_count(); ++h) add(world.wrench(h));
+    for (const int i : free) add(world.body_wrench(i));
     r.us.push_back(ok ? statistics.microseconds : nan);
     r.nodes.push_back(ok ? static_cast<double>(statistics.nodes_traversed) : nan);
     stage.advance();
@@ -121,17 +136,19 @@ std::vector<SweepResult> sweep_contact(scene::SceneRuntime& runtime,
     scene::SceneRuntime& runtime;
     ~RestoreOptions() { runtime.world().set_contact_options(runtime.description().contact); }
   } restore{runtime};
+  for (int h = 0; h < runtime.hand_count(); ++h) runtime.world().release(h);
   // The states in contact under the reference, evenly thinned to max_states.
   std::vector<const RecordedState*> all;
   for (const RecordedState& state : states) all.push_back(&state);
   reduced::StageProgress finding(progress, "finding the states in contact",
                                  static_cast<std::int64_t>(all.size()));
   const Replay probe = replay(runtime, all, settings.front().options, finding);
-  const auto hands = static_cast<std::size_t>(runtime.hand_count());
+  const std::size_t wrenches =
+      static_cast<std::size_t>(runtime.hand_count()) + free_objects(runtime).size();
   std::vector<const RecordedState*> touching;
   for (std::size_t i = 0; i < all.size(); ++i) {
-    for (std::size_t h = 0; h < hands; ++h) {
-      const Eigen::Vector3d& force = probe.force[i * hands + h];
+    for (std::size_t w = 0; w < wrenches; ++w) {
+      const Eigen::Vector3d& force = probe.force[i * wrenches + w];
       if (force.allFinite() && force.squaredNorm() > 0.0) {
         touching.push_back(all[i]);
         break;

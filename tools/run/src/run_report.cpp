@@ -188,9 +188,9 @@ void write_markdown(const std::filesystem::path& file, const ReportInput& input,
                              : format("moving at %.3g m/s", body.speed))
           << " |\n";
     }
-    out << "\nThe speed-against-error replay below places the held objects as recorded and leaves "
-           "the free ones where the run left them: it measures the query on those poses, not on "
-           "the run's contacts with the free objects.\n\n";
+    out << "\nThe speed-against-error replay below places the held and the free objects as "
+           "recorded, with every grasp let go (a carried object is replayed as touched by what "
+           "carried it), and its errors cover the free objects' contacts too.\n\n";
   }
   if (!input.sweep.empty()) {
     out << "## Speed against error of the contact query\n\n"

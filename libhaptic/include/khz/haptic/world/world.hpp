@@ -160,6 +160,13 @@ class KHZ_HAPTIC_API World {
   int release(int hand) noexcept;
   /// The hand that holds or grasped body `index`, or −1.
   int hand_of(int index) const noexcept;
+  /// Puts free dynamic body `index` at `pose` (world ← body), at rest and awake: for replaying
+  /// recorded states with probe(), which then queries its pairs too. A jump like any other: its
+  /// pairs' friction anchors, coherence and level of detail carry on (reset_contact() forgets
+  /// them). Allocates nothing.
+  /// @return false (and nothing changes) if the body is not dynamic, a hand grasps it, or `pose`
+  ///         is not finite.
+  bool place_free_body(int index, const Eigen::Isometry3d& pose) noexcept;
 
   /// Forgets every pair's temporal coherence and level of detail (after a jump of a body).
   void reset_contact() noexcept;

@@ -13,10 +13,12 @@
 namespace khz::run {
 
 /// Where everything was in one cycle: each hand's grasp frame (its held object's simulation
-/// pose) and every reduced object's q (empty for rigid objects).
+/// pose), every reduced object's q (empty for rigid objects) and every free object's pose
+/// (world ← body, in the scene's order of the free objects).
 struct RecordedState {
   std::vector<haptic::Pose> grasps;
   std::vector<Eigen::VectorXd> coordinates;
+  std::vector<Eigen::Isometry3d> free_poses;
 };
 
 /// The state of `runtime` now (for RunOptions::on_frame with frame_every = 1).
@@ -54,13 +56,16 @@ struct SweepResult {
 /// How many states sweep_contact() replays at most, by default (`khz report`).
 inline constexpr std::size_t default_sweep_states = 2000;
 
-/// Replays `states` (those where the reference finds contact for some hand; at most
-/// `max_states` of them, evenly spaced) through `runtime`'s World (haptic::World::probe(): every
-/// pair queried, nothing stepped) under each setting in turn, the first
-/// setting being the reference, and restores the scene's options afterwards. Each setting
-/// starts from a reset workspace and sees the states in order, so time budgets warm up as in
-/// a run. `progress` hears of stage "finding the states in contact" (one unit a recorded state)
-/// and then of one stage a setting, named after it (one unit a replayed state).
+/// Replays `states` (those where the reference finds contact for some hand or free object; at
+/// most `max_states` of them, evenly spaced) through `runtime`'s World (free objects placed
+/// where they were, haptic::World::place_free_body(), then haptic::World::probe(): every pair
+/// queried, nothing stepped) under each setting in turn, the first setting being the reference,
+/// and restores the scene's options afterwards. The errors cover every hand's wrench and every
+/// free object's (haptic::World::body_wrench()). Grasps are let go first (the replay cannot
+/// tell what was grasped when): a peg carried in the run is replayed as touched by its gripper.
+/// Each setting starts from a reset workspace and sees the states in order, so time budgets warm up
+/// as in a run. `progress` hears of stage "finding the states in contact" (one unit a recorded
+/// state) and then of one stage a setting, named after it (one unit a replayed state).
 /// @throws reduced::Error if `settings` is empty, or as SceneRuntime::set_coordinates();
 ///         reduced::Cancelled if `progress` returns false (the scene's options restored).
 std::vector<SweepResult> sweep_contact(scene::SceneRuntime& runtime,
