@@ -130,12 +130,16 @@ struct Rig {
 /// order), for the ratios.
 double held_mean_us = 0.0;
 
-/// Mean and p99 of `times` (µs) as counters, with the mean's ratio to the held reference.
-void report(benchmark::State& state, std::vector<double> times) {
-  if (times.empty()) return;
+double mean_of(const std::vector<double>& times) {
   double sum = 0.0;
   for (const double t : times) sum += t;
-  const double mean = sum / static_cast<double>(times.size());
+  return sum / static_cast<double>(times.size());
+}
+
+/// Mean and p99 of `times` (µs, not empty) as counters, with the mean's ratio to the held
+/// reference.
+void report(benchmark::State& state, std::vector<double> times) {
+  const double mean = mean_of(times);
   std::sort(times.begin(), times.end());
   state.counters["mean_us"] = mean;
   state.counters["p99_us"] = times[times.size() * 99 / 100];
@@ -159,11 +163,7 @@ void BM_WorldCycle(benchmark::State& state, Case which) {
             .count());
   }
   if (times.empty()) return;
-  if (which == Case::held) {
-    double sum = 0.0;
-    for (const double t : times) sum += t;
-    held_mean_us = sum / static_cast<double>(times.size());
-  }
+  if (which == Case::held) held_mean_us = mean_of(times);
   report(state, std::move(times));
   state.counters["points"] =
       static_cast<double>(rig.world->records()[0].contact.statistics.points_in_contact +
@@ -202,7 +202,7 @@ void BM_PickAndPlaceScene(benchmark::State& state) {
             .count());
   }
   state.counters["cycles_per_run"] = cycles;
-  report(state, std::move(times));
+  if (!times.empty()) report(state, std::move(times));
 }
 BENCHMARK(BM_PickAndPlaceScene)->MinTime(3.0);
 

@@ -362,9 +362,7 @@ void read_contact(const ObjectReader& root, SceneDescription& scene) {
 void read_dynamics(const ObjectReader& root, SceneDescription& scene) {
   scene.dynamics.time_step = 1.0 / scene.loop.rate_hz;
   if (!root.has("dynamics")) return;
-  const bool any_free = std::any_of(scene.objects.begin(), scene.objects.end(),
-                                    [](const ObjectDescription& o) { return o.is_dynamic(); });
-  if (!any_free) {
+  if (!scene.has_free_objects()) {
     root.fail("dynamics",
               "settings for free bodies, but no object has \"dynamics\" (objects[i].dynamics "
               "makes one)");

@@ -267,8 +267,7 @@ TEST_P(SmallExample, IsSmoothKeepsOutAndSettlesInASteadyPress) {
                   [](const PreparedObject& o) { return o.deformed_field != nullptr; });
   // A free object the held one was pushing when the hold began slides on, and the held one
   // follows it until friction stops it: motion, not jitter, judged after 1 s too.
-  const bool pushes_on = std::any_of(description.objects.begin(), description.objects.end(),
-                                     [](const ObjectDescription& o) { return o.is_dynamic(); });
+  const bool pushes_on = description.has_free_objects();
   for (std::size_t h = 0; h < pressed.size(); ++h) {
     SCOPED_TRACE("steady press, hand " + std::to_string(h));
     const Motion early = motion(pressed[h], 0.3), late = motion(pressed[h], 1.0);

@@ -83,11 +83,9 @@ SceneView::SceneView(const scene::SceneRuntime& runtime, const SnapshotLayout& l
                      const run::SceneFraming& framing)
     : m_layout(layout),
       m_points(runtime, layout),
-      m_hand_of(runtime.description().objects.size(), -1),
       m_radius(framing.radius),
       m_reference_force(run::arrow_reference_force(runtime.description())) {
   for (int h = 0; h < runtime.hand_count(); ++h) {
-    m_hand_of[static_cast<std::size_t>(runtime.held_object(h))] = h;
     m_held_objects.push_back(runtime.held_object(h));
     m_grasps_in_body.push_back(runtime.grasp_in_body(h));
   }
@@ -100,11 +98,7 @@ SceneView::SceneView(const scene::SceneRuntime& runtime, const SnapshotLayout& l
       body->embedded = std::make_unique<reduced::EmbeddedSurface>(*products.embedding, surface,
                                                                   products.model->basis().vectors);
     }
-    body->color = m_hand_of[static_cast<std::size_t>(i)] >= 0
-                      ? m_colors.held_color
-                      : (runtime.description().objects[static_cast<std::size_t>(i)].is_dynamic()
-                             ? m_colors.free_color
-                             : m_colors.other_color);
+    body->color = run::surface_color(m_colors, runtime, i);
     body->smooth = run::shade_smoothly(surface.triangles);
     body->positions = surface.vertices;
     body->normals.resize(surface.vertices.rows(), 3);

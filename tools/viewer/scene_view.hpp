@@ -55,7 +55,6 @@ class SceneView {
   run::FrameOptions m_colors;  // FrameRenderer's colours
   SnapshotPoints m_points;
   std::vector<std::unique_ptr<Body>> m_bodies;
-  std::vector<int> m_hand_of;                     // per object: the hand holding it, or −1
   std::vector<int> m_held_objects;                // per hand: the object it holds
   std::vector<Eigen::Vector3d> m_grasps_in_body;  // per hand
   double m_radius = 1.0;                          // the scene's (m)

@@ -8,6 +8,18 @@
 #include <tuple>
 
 namespace khz::run {
+namespace {
+
+/// The scene's free objects (dynamic World bodies), in its order.
+std::vector<int> free_objects(const scene::SceneRuntime& runtime) {
+  std::vector<int> objects;
+  for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
+    if (runtime.world().motion(i) != nullptr) objects.push_back(i);
+  }
+  return objects;
+}
+
+}  // namespace
 
 RecordedState record_state(const scene::SceneRuntime& runtime) {
   RecordedState state;
@@ -16,8 +28,8 @@ RecordedState record_state(const scene::SceneRuntime& runtime) {
   }
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
     state.coordinates.push_back(runtime.coordinates(i));
-    if (runtime.world().motion(i) != nullptr) state.free_poses.push_back(runtime.pose(i));
   }
+  for (const int i : free_objects(runtime)) state.free_poses.push_back(runtime.pose(i));
   return state;
 }
 
@@ -54,15 +66,6 @@ std::vector<SweepSetting> default_sweep(const contact::ContactOptions& scene_opt
 }
 
 namespace {
-
-/// The scene's free objects (dynamic World bodies), in its order.
-std::vector<int> free_objects(const scene::SceneRuntime& runtime) {
-  std::vector<int> objects;
-  for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
-    if (runtime.world().motion(i) != nullptr) objects.push_back(i);
-  }
-  return objects;
-}
 
 void apply(scene::SceneRuntime& runtime, const RecordedState& state, const std::vector<int>& free) {
   for (std::size_t i = 0; i < state.coordinates.size(); ++i) {

@@ -25,6 +25,16 @@ bool shade_smoothly(const reduced::TriangleMatrix& triangles) noexcept {
   return triangles.rows() > 200;
 }
 
+render::Color surface_color(const FrameOptions& options, const scene::SceneRuntime& runtime,
+                            int object) {
+  for (int h = 0; h < runtime.hand_count(); ++h) {
+    if (runtime.held_object(h) == object) return options.held_color;
+  }
+  return runtime.description().objects[static_cast<std::size_t>(object)].is_dynamic()
+             ? options.free_color
+             : options.other_color;
+}
+
 double arrow_reference_force(const scene::SceneDescription& scene, double arrow_force) {
   const double saturation = scene.coupling.saturation_force;
   return arrow_force > 0.0                               ? arrow_force
@@ -36,12 +46,7 @@ FrameRenderer::FrameRenderer(const scene::SceneRuntime& runtime, const FrameOpti
     : m_options(options), m_camera(frame_camera(runtime, options, m_scene_radius)) {
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
     m_triangles.push_back(runtime.surface(i).triangles);
-    m_colors.push_back(runtime.description().objects[static_cast<std::size_t>(i)].is_dynamic()
-                           ? options.free_color
-                           : options.other_color);
-  }
-  for (int h = 0; h < runtime.hand_count(); ++h) {
-    m_colors[static_cast<std::size_t>(runtime.held_object(h))] = options.held_color;
+    m_colors.push_back(surface_color(options, runtime, i));
   }
   m_reference_force = arrow_reference_force(runtime.description(), options.arrow_force);
 }

@@ -31,10 +31,7 @@ SceneFraming frame_scene(const scene::SceneRuntime& runtime) {
   framing.centre = box.center();
   framing.radius = std::max(0.5 * box.diagonal().norm(), 1e-6);
   const scene::SceneDescription& scene = runtime.description();
-  const bool free_objects =
-      std::any_of(scene.objects.begin(), scene.objects.end(),
-                  [](const scene::ObjectDescription& o) { return o.is_dynamic(); });
-  if (free_objects && scene.dynamics.gravity.norm() > 0.0) {
+  if (scene.has_free_objects() && scene.dynamics.gravity.norm() > 0.0) {
     framing.up = -scene.dynamics.gravity.normalized();
   }
   return framing;

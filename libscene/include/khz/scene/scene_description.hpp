@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <filesystem>
@@ -106,6 +107,12 @@ struct SceneDescription {
   /// "loop.duration": how long to run (s), ≥ 0. 0 (the default): until the longest trajectory
   /// or operator script ends, or until interrupted for null and hardware devices.
   double duration = 0.0;
+
+  /// Whether some object is free (ObjectDescription::is_dynamic()).
+  bool has_free_objects() const noexcept {
+    return std::any_of(objects.begin(), objects.end(),
+                       [](const ObjectDescription& object) { return object.is_dynamic(); });
+  }
 
   /// The object hand `hand` holds. Precondition: a scene returned by the reader.
   /// @throws std::out_of_range for a hand index out of range.

@@ -38,6 +38,11 @@ struct FrameOptions {
 /// (curved) ones are; coarse ones, boxes say, keep their edges.
 bool shade_smoothly(const reduced::TriangleMatrix& triangles) noexcept;
 
+/// The colour `options` give object `object`'s surface in pictures: held_color if a hand holds
+/// it, free_color if it is free (scene "dynamics"), other_color otherwise.
+render::Color surface_color(const FrameOptions& options, const scene::SceneRuntime& runtime,
+                            int object);
+
 /// The force (N) drawn as an arrow as long as the scene's radius: `arrow_force` if positive,
 /// else the coupling's saturation force if it has one, else 1 N.
 double arrow_reference_force(const scene::SceneDescription& scene, double arrow_force = 0.0);
