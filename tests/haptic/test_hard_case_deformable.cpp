@@ -67,13 +67,26 @@ struct DeformableBeam {
   double energy() const { return integrator->kinetic_energy() + integrator->strain_energy(); }
 };
 
-TEST(HardCases, DeformablePointshellPushedHardAndReleased) {
+/// Each case runs frictionless, as in the thesis, and with friction μ_s = 0.5, μ_k = 0.4
+/// (issue 20; rubbings()); friction's tangential reaction enters the reduced forces too, and
+/// every case must stay as stable with it.
+class HardCases : public ::testing::TestWithParam<Rubbing> {
+ protected:
+  /// The cases' contact options (contact_options()) with this run's friction.
+  contact::ContactOptions options(contact::HapticObject held) const {
+    return contact_options(held, GetParam().friction);
+  }
+};
+
+INSTANTIATE_TEST_SUITE_P(, HardCases, ::testing::ValuesIn(rubbings()), RubbingName());
+
+TEST_P(HardCases, DeformablePointshellPushedHardAndReleased) {
   DeformableBeam b;
   // The held object: a 1.5 cm ball (the distance-field object, the thesis's convention), grasped
   // at its centre. The hand comes down on the beam 3 cm from its tip, pushes 3 cm past its top
   // face (far beyond what the saturated coupling transmits), holds, and lets go at t = 0.8 s.
   const contact::ImplicitShape ball = contact::Sphere(Eigen::Vector3d::Zero(), ball_radius);
-  const PairScene scene(b.tree, ball, contact_options(contact::HapticObject::distance_field),
+  const PairScene scene(b.tree, ball, options(contact::HapticObject::distance_field),
                         Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity(), b.integrator.get());
   const Eigen::Vector3d above(0.17, 0.01, beam_side + ball_radius + 0.01);
   const TargetFunction target = keyframe_target({{0.0, at(above)},
@@ -143,7 +156,7 @@ TEST(HardCases, DeformablePointshellPushedHardAndReleased) {
   EXPECT_LT(trace.back().device_energy, 1e-6);
 }
 
-TEST(HardCases, DeformableToolAgainstDeformableBeam) {
+TEST_P(HardCases, DeformableToolAgainstDeformableBeam) {
   // Deformable against deformable (§3.12): the hand holds a second beam by its clamped end,
   // pointing down, as the distance-field object (its deformed field from 40 proxies on a 48³
   // rest field), and presses its tip onto the first beam near its tip, then lifts it away. The
@@ -155,10 +168,10 @@ TEST(HardCases, DeformableToolAgainstDeformableBeam) {
       {contact::signed_distance_field(DeformableBeam::surface(), grid)},
       reduced::MeshEmbedding(tool.beam.model.mesh()), tool.model.basis().vectors);
   contact::DeformedFieldState tool_state(tool_field);
-  const PairScene scene(
-      beam.tree, tool_state, contact_options(contact::HapticObject::distance_field),
-      Eigen::Vector3d(0.0, beam_side / 2, beam_side / 2), Eigen::Isometry3d::Identity(),
-      beam.integrator.get(), tool.integrator.get());
+  const PairScene scene(beam.tree, tool_state, options(contact::HapticObject::distance_field),
+                        Eigen::Vector3d(0.0, beam_side / 2, beam_side / 2),
+                        Eigen::Isometry3d::Identity(), beam.integrator.get(),
+                        tool.integrator.get());
   // Tool axis x turned onto world −z; its tip starts 1 cm above the beam at x = 17 cm.
   const Eigen::Quaterniond down(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitY()));
   const Eigen::Vector3d above(0.17, beam_side / 2, beam_side + beam_length + 0.01);
@@ -229,7 +242,7 @@ struct StallingClock {
 // (the contact floor), so in every one of five runs, in every cycle, the deepest level never
 // drops while in contact, penetration stays ≤ 1 voxel and the contact force never points into
 // the plate. Without the floor the level drops in the first stalled cycle.
-TEST(HardCases, AContactOnAThinPlateIsNeverHandedToACoarserLevelWhenTheClockStalls) {
+TEST_P(HardCases, AContactOnAThinPlateIsNeverHandedToACoarserLevelWhenTheClockStalls) {
   constexpr double half_thickness = voxel;  // the plate: |z| ≤ 2 mm
   const contact::DistanceGrid plate = sampled_field(
       [](const Eigen::Vector3d& p) { return std::abs(p.z()) - half_thickness; },
@@ -244,11 +257,11 @@ TEST(HardCases, AContactOnAThinPlateIsNeverHandedToACoarserLevelWhenTheClockStal
 
   for (int repeat = 0; repeat < 5; ++repeat) {
     DeformableBeam b;
-    contact::ContactOptions options = contact_options(contact::HapticObject::pointshell);
-    options.degradation.mode = contact::DegradationOptions::Mode::time_budget;
-    options.degradation.budget_microseconds = 20000.0;
-    options.degradation.clock = &StallingClock::now;
-    const PairScene scene(b.tree, plate, options, grasp_in_body, Eigen::Isometry3d::Identity(),
+    contact::ContactOptions budgeted = options(contact::HapticObject::pointshell);
+    budgeted.degradation.mode = contact::DegradationOptions::Mode::time_budget;
+    budgeted.degradation.budget_microseconds = 20000.0;
+    budgeted.degradation.clock = &StallingClock::now;
+    const PairScene scene(b.tree, plate, budgeted, grasp_in_body, Eigen::Isometry3d::Identity(),
                           b.integrator.get());
     const auto penetration = [&](const Pose& grasp) {
       const Eigen::Isometry3d body = held_body_pose(grasp, grasp_in_body);

@@ -146,9 +146,11 @@ struct KHZ_CONTACT_API FrictionOptions {
   /// (the presliding displacement, Hayward and Armstrong's z_max); the anchor spring's stiffness
   /// per point is μ_s |f_n| / δ. Smaller is stiffer: a stuck point is as stiff sideways as into
   /// the surface when δ = μ_s |d|, and stiffer below that depth. A haptic scene should choose
-  /// δ ≥ μ_s × its deepest penetration (with saturation, about a voxel), so that no point is
-  /// stiffer sideways than w k_C, the bound the L/ℓ scaling keeps for the whole contact (§3.5,
-  /// §4.7): the default suits contacts pressed in less than 0.2 mm at μ_s = 0.5.
+  /// δ ≈ μ_s h, h the field's voxel (with saturation a contact at rest is pressed in up to h/2),
+  /// so that no point is stiffer sideways than w k_C, the bound the L/ℓ scaling keeps for the
+  /// whole contact (§3.5, §4.7); docs/CONTACT.md shows a tight ball-and-socket contact that
+  /// loses its passivity with anchors ten times stiffer. The default suits contacts pressed in
+  /// less than 0.2 mm at μ_s = 0.5.
   double stick_distance = 1e-4;
 
   /// Whether friction is on (μ_s > 0).
