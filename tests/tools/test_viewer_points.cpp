@@ -76,6 +76,29 @@ std::int64_t in_contact(const std::vector<run::PointPicture>& pictures) {
   return count;
 }
 
+// The same press with friction, the hand then sliding the cube along the wall: the snapshot
+// lists the points that slid, and the viewer colours them as the frame pictures do.
+TEST(SnapshotPoints, SlidingPointsAsTheFramePictures) {
+  nlohmann::json json = scene::test_scenes::cube_above_wall_scene();
+  json["contact"]["friction"] = {{"static", 0.5}, {"kinetic", 0.4}};
+  MouseScene scene(json, "viewer-points-sliding");
+  const SnapshotLayout layout(scene.runtime());
+  SnapshotPoints points(scene.runtime(), layout);
+  scene.hold_at({0.0, 0.067, 0.0}, 300);
+  std::int64_t slid = 0;
+  for (int step = 1; step <= 20 && slid == 0; ++step) {
+    scene.hold_at({1e-3 * step, 0.067, 0.0}, 10);
+    slid = scene.runtime().world().pair_result(0).statistics.points_sliding;
+  }
+  ASSERT_GT(slid, 0) << "the hand slid the cube along the wall";
+  auto sliding = std::make_unique<SceneSnapshot>();
+  layout.capture(scene.runtime(), *sliding);
+  EXPECT_EQ(sliding->sliding_counts[0], slid);
+  const std::vector<run::PointPicture> pictures = points.classify(*sliding);
+  expect_same(pictures, run::capture_frame(scene.runtime()).points);
+  EXPECT_EQ(pictures[0].count(run::PointState::sliding), slid);
+}
+
 // A rigid 4 cm cube (500 random points) pressed 3 mm into a rigid 10 cm cube, then lifted off.
 TEST(SnapshotPoints, RigidObjectsAsTheFramePictures) {
   const nlohmann::json json = scene::test_scenes::cube_above_wall_scene();

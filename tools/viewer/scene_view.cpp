@@ -150,11 +150,14 @@ void SceneView::draw_points(const SceneSnapshot& snapshot) {
   // As the frame pictures: points looked at are depth-tested; points in contact lie inside the
   // other object, so they are drawn over it.
   const std::vector<run::PointPicture>& pictures = m_points.classify(snapshot);
-  for (const run::PointState state : {run::PointState::traversed, run::PointState::in_contact}) {
-    const bool touching = state == run::PointState::in_contact;
+  for (const run::PointState state :
+       {run::PointState::traversed, run::PointState::in_contact, run::PointState::sliding}) {
+    const bool touching = state != run::PointState::traversed;
     if (touching) glDisable(GL_DEPTH_TEST);
     glPointSize(touching ? 5.0f : 3.0f);
-    set_color(touching ? m_colors.contact_color : m_colors.traversed_color);
+    set_color(!touching                              ? m_colors.traversed_color
+              : state == run::PointState::in_contact ? m_colors.contact_color
+                                                     : m_colors.sliding_color);
     glBegin(GL_POINTS);
     for (const run::PointPicture& picture : pictures) {
       for (std::size_t s = 0; s < picture.states.size(); ++s) {

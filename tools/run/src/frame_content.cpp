@@ -1,6 +1,9 @@
 #include <khz/run/frame_content.hpp>
 
+#include <cstdint>
+#include <span>
 #include <utility>
+#include <vector>
 
 namespace khz::run {
 
@@ -27,15 +30,9 @@ FrameContent capture_frame(scene::SceneRuntime& runtime) {
         classify_points(world.bodies()[static_cast<std::size_t>(pair.pointshell)],
                         world.bodies()[static_cast<std::size_t>(pair.field)],
                         world.pair_result(p).statistics.deepest_level);
-    if (world.pair_result(p).statistics.points_sliding > 0) {
-      for (std::size_t s = 0; s < picture.states.size(); ++s) {
-        if (picture.states[s] == PointState::in_contact &&
-            world.friction_state(p, static_cast<Eigen::Index>(s)) ==
-                contact::FrictionState::sliding) {
-          picture.states[s] = PointState::sliding;
-        }
-      }
-    }
+    std::vector<std::int32_t> sliding(
+        static_cast<std::size_t>(world.pair_result(p).statistics.points_sliding));
+    mark_sliding(picture, std::span(sliding).first(sliding_points(world, p, sliding)));
     frame.points.push_back(std::move(picture));
   }
   return frame;

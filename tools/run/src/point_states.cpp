@@ -9,6 +9,18 @@
 #include <variant>
 
 namespace khz::run {
+namespace {
+
+/// The tree of `body`'s pointshell, rigid or deformable (null if it has none).
+const contact::PointTree* point_tree(const haptic::Body& body) noexcept {
+  if (const auto* deformable = std::get_if<const contact::DeformablePointTree*>(&body.pointshell)) {
+    return &(*deformable)->tree();
+  }
+  const auto* rigid = std::get_if<const contact::PointTree*>(&body.pointshell);
+  return rigid != nullptr ? *rigid : nullptr;
+}
+
+}  // namespace
 
 std::int64_t PointPicture::count(PointState state) const noexcept {
   return std::count(states.begin(), states.end(), state);
@@ -26,9 +38,10 @@ PointPicture classify_points(const haptic::Body& pointshell,
                              const Eigen::Ref<const Eigen::VectorXd>& coordinates,
                              const haptic::Body& field, int deepest_level) {
   const auto* deformable = std::get_if<const contact::DeformablePointTree*>(&pointshell.pointshell);
-  const contact::PointTree& tree =
-      deformable != nullptr ? (*deformable)->tree()
-                            : *std::get<const contact::PointTree*>(pointshell.pointshell);
+  if (point_tree(pointshell) == nullptr) {
+    throw reduced::Error("classify_points: body '" + pointshell.name + "' has no pointshell");
+  }
+  const contact::PointTree& tree = *point_tree(pointshell);
   PointPicture picture;
   if (deepest_level < 0) return picture;
   const int last = std::min(deepest_level, tree.num_levels() - 1);
@@ -86,6 +99,34 @@ PointPicture classify_points(const haptic::Body& pointshell,
     }
   }
   return picture;
+}
+
+std::size_t sliding_points(const haptic::World& world, int pair,
+                           std::span<std::int32_t> out) noexcept {
+  const contact::ContactResult& result = world.pair_result(pair);
+  const std::int64_t sliding = result.statistics.points_sliding;
+  if (sliding <= 0 || result.statistics.deepest_level < 0) return 0;
+  const contact::PointTree* tree = point_tree(world.bodies()[static_cast<std::size_t>(
+      world.pairs()[static_cast<std::size_t>(pair)].pointshell)]);
+  if (tree == nullptr) return 0;
+  const Eigen::Index points = tree->pointshell().level_end(
+      std::min(result.statistics.deepest_level, tree->num_levels() - 1));
+  std::size_t found = 0;
+  for (Eigen::Index s = 0;
+       s < points && found < out.size() && static_cast<std::int64_t>(found) < sliding; ++s) {
+    if (world.friction_state(pair, s) == contact::FrictionState::sliding) {
+      out[found++] = static_cast<std::int32_t>(s);
+    }
+  }
+  return found;
+}
+
+void mark_sliding(PointPicture& picture, std::span<const std::int32_t> sliding) noexcept {
+  for (const std::int32_t s : sliding) {
+    if (s < 0 || static_cast<std::size_t>(s) >= picture.states.size()) continue;
+    PointState& state = picture.states[static_cast<std::size_t>(s)];
+    if (state == PointState::in_contact) state = PointState::sliding;
+  }
 }
 
 }  // namespace khz::run

@@ -1,3 +1,4 @@
+#include <khz/run/point_states.hpp>
 #include <khz/viewer/scene_snapshot.hpp>
 
 #include <algorithm>
@@ -48,10 +49,23 @@ void SnapshotLayout::capture(const scene::SceneRuntime& runtime,
     const Eigen::VectorXd& q = integrator->coordinates();
     std::copy(q.data(), q.data() + q.size(), snapshot.coordinates.begin() + m_offsets[i]);
   }
+  std::size_t listed = 0;
   for (int p = 0; p < m_pairs; ++p) {
     snapshot.deepest_levels[static_cast<std::size_t>(p)] =
         runtime.world().pair_result(p).statistics.deepest_level;
+    const std::size_t count =
+        run::sliding_points(runtime.world(), p, std::span(snapshot.sliding_points).subspan(listed));
+    snapshot.sliding_counts[static_cast<std::size_t>(p)] = static_cast<int>(count);
+    listed += count;
   }
+}
+
+std::span<const std::int32_t> SceneSnapshot::sliding(int pair) const noexcept {
+  std::size_t begin = 0;
+  for (int p = 0; p < pair; ++p)
+    begin += static_cast<std::size_t>(sliding_counts[static_cast<std::size_t>(p)]);
+  return std::span(sliding_points)
+      .subspan(begin, static_cast<std::size_t>(sliding_counts[static_cast<std::size_t>(pair)]));
 }
 
 Eigen::Map<const Eigen::VectorXd> SnapshotLayout::coordinates(const SceneSnapshot& snapshot,

@@ -41,6 +41,7 @@ const std::vector<run::PointPicture>& SnapshotPoints::classify(const SceneSnapsh
                              m_layout.coordinates(snapshot, pair.pointshell),
                              m_bodies[static_cast<std::size_t>(pair.field)],
                              snapshot.deepest_levels[static_cast<std::size_t>(pair.world_index)]);
+    run::mark_sliding(m_pictures[k], snapshot.sliding(pair.world_index));
   }
   return m_pictures;
 }

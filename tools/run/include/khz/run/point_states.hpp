@@ -3,11 +3,14 @@
 // pictures and ParaView files of a run.
 
 #include <khz/haptic/world/body.hpp>
+#include <khz/haptic/world/world.hpp>
 #include <khz/reduced/mesh/triangle_mesh.hpp>
 
 #include <Eigen/Core>
 
+#include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace khz::run {
@@ -48,9 +51,25 @@ PointPicture classify_points(const haptic::Body& pointshell, const haptic::Body&
 /// such as the interactive viewer's drawing thread, whose bodies' integrators the haptic thread
 /// is stepping meanwhile.
 /// @param q a deformable pointshell's q (its tree's r entries); ignored for a rigid one.
-/// @throws reduced::Error if a deformable pointshell's q does not have r entries.
+/// @throws reduced::Error if `pointshell` has no pointshell, or a deformable pointshell's q
+///         does not have r entries.
 PointPicture classify_points(const haptic::Body& pointshell,
                              const Eigen::Ref<const Eigen::VectorXd>& q, const haptic::Body& field,
                              int deepest_level);
+
+/// The points of World pair `pair` whose friction slid in its last query
+/// (contact::FrictionState::sliding; ContactStatistics::points_sliding counts them): their
+/// pointshell indices, ascending, written to `out`, at most out.size() of them.
+/// noexcept and allocation-free: for the haptic thread (it reads the pair's workspace, so call it
+/// between cycles). Looks at the points of the pair's deepest level rendered and stops when it
+/// has found them all.
+/// @returns how many it wrote.
+std::size_t sliding_points(const haptic::World& world, int pair,
+                           std::span<std::int32_t> out) noexcept;
+
+/// Marks the points of `picture` in contact (PointState::in_contact) that `sliding` lists
+/// (pointshell indices, as sliding_points() gives them) as PointState::sliding; an index past
+/// the picture or of a point not in contact there is passed over.
+void mark_sliding(PointPicture& picture, std::span<const std::int32_t> sliding) noexcept;
 
 }  // namespace khz::run

@@ -8,6 +8,8 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <cstdint>
+#include <span>
 #include <vector>
 
 namespace khz::viewer {
@@ -39,6 +41,18 @@ struct SceneSnapshot {
   /// before the first query): with the poses and q, what the drawing thread needs to classify
   /// that pair's points (SnapshotPoints) without reading the World.
   std::array<int, max_pairs> deepest_levels{};
+  /// The most sliding points a snapshot lists, over all pairs: the viewer draws further ones as
+  /// in contact.
+  static constexpr int max_sliding_points = 4096;
+  /// Per pair (as deepest_levels), how many of `sliding_points` are its points; each pair's come
+  /// after those of the pairs before it.
+  std::array<int, max_pairs> sliding_counts{};
+  /// The pointshell indices of the points whose friction slid in the cycle
+  /// (run::sliding_points()), pair after pair: for SnapshotPoints to colour them apart from the
+  /// stuck ones.
+  std::array<std::int32_t, max_sliding_points> sliding_points{};
+  /// Pair `pair`'s entries of sliding_points.
+  std::span<const std::int32_t> sliding(int pair) const noexcept;
 };
 
 /// Where each object's q lies in SceneSnapshot::coordinates, fixed before the loop starts.
@@ -54,8 +68,8 @@ class SnapshotLayout {
   int object_count() const noexcept { return static_cast<int>(m_offsets.size()) - 1; }
   int pair_count() const noexcept { return m_pairs; }
   /// Writes the runtime's last records, every object's pose, every reduced object's current
-  /// q and every pair's deepest level into `snapshot`. noexcept and allocation-free: for the
-  /// haptic thread, right after the cycle.
+  /// q, every pair's deepest level and its sliding points into `snapshot`. noexcept and
+  /// allocation-free: for the haptic thread, right after the cycle.
   void capture(const scene::SceneRuntime& runtime, SceneSnapshot& snapshot) const noexcept;
   /// Object i's q in `snapshot` (r entries; empty for rigid objects).
   Eigen::Map<const Eigen::VectorXd> coordinates(const SceneSnapshot& snapshot,
