@@ -121,7 +121,10 @@ struct KHZ_CONTACT_API CoherenceOptions {
 /// the contact give way below it). The model is a
 /// spring with no velocity, so it holds a load at rest without drift, needs no rate-dependent
 /// tuning, and its force and all four gradients are exact derivatives (ContactResult says of
-/// what); it only dissipates: a stuck point returns what it stored, a sliding one loses it.
+/// what). At a steady depth it only dissipates: a stuck point returns what it stored, a sliding
+/// one loses it. Its load-proportional k_t is not passive when the depth changes while a point
+/// is stuck: pressed deeper with the spring stretched, the spring stiffens without work, so a
+/// press–slide–release cycle returns ½ Δk_t s² more than it took (docs/CONTACT.md; issue 20).
 ///
 /// Anchors live in the workspace (no allocation per query) and are kept per point of the
 /// pointshell, in the field object's body frame:
