@@ -54,8 +54,8 @@ inline void PrintTo(const Rubbing& rubbing, std::ostream* out) { *out << rubbing
 
 /// The two runs of each hard case: frictionless, and μ_s = 0.5, μ_k = 0.4 with the stick distance
 /// contact::FrictionOptions advises for haptic scenes, δ = μ_s h (1 mm). (With the default 0.1 mm
-/// the ball turned in its tight socket is thrown onto the rim, where its few sliding points never
-/// settle and the passivity observer falls below zero.)
+/// the ball turned in its tight socket is thrown out of it and never settles, the passivity
+/// observer falling below zero.)
 inline std::vector<Rubbing> rubbings() {
   contact::FrictionOptions rough;
   rough.static_coefficient = 0.5;

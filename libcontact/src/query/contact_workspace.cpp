@@ -137,6 +137,7 @@ void ContactWorkspace::reset() noexcept {
   std::fill(m_anchors.begin(), m_anchors.end(), detail::FrictionAnchor{});
   std::fill(m_level_rendered.begin(), m_level_rendered.end(), 0U);
   m_friction_query = 0;
+  m_last_normal_load = 0.0;
 }
 
 bool ContactWorkspace::begin_coherence(const Eigen::Matrix3d& rotation,

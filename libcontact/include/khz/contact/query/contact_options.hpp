@@ -121,10 +121,13 @@ struct KHZ_CONTACT_API CoherenceOptions {
 /// the contact give way below it). The model is a
 /// spring with no velocity, so it holds a load at rest without drift, needs no rate-dependent
 /// tuning, and its force and all four gradients are exact derivatives (ContactResult says of
-/// what). At a steady depth it only dissipates: a stuck point returns what it stored, a sliding
-/// one loses it. Its load-proportional k_t is not passive when the depth changes while a point
-/// is stuck: pressed deeper with the spring stretched, the spring stiffens without work, so a
-/// press–slide–release cycle returns ½ Δk_t s² more than it took (docs/CONTACT.md; issue 20).
+/// what). It dissipates: a stuck point returns what it stored, a sliding one loses it, and a
+/// contact pressed harder while stuck keeps its pull (each stuck point's stretch shrinks by the
+/// ratio of the pair's total normal load, as Mindlin and Deresiewicz's elastic spheres keep
+/// their tangential force), so that its stiffening springs store nothing the hand did not put
+/// in. A load that only shifts between points rescales nothing. (The total is the last query's,
+/// one cycle late; and a load shifting between stuck points stretched unequally still stores
+/// ½ Σ Δk_t s², which cancels when their stretches s are equal, as in a rigid push.)
 ///
 /// Anchors live in the workspace (no allocation per query) and are kept per point of the
 /// pointshell, in the field object's body frame:

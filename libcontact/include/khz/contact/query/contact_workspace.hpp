@@ -146,6 +146,7 @@ class KHZ_CONTACT_API ContactWorkspace {
   std::vector<detail::FrictionAnchor> m_anchors;  // per point; empty when friction is off
   std::vector<std::uint32_t> m_level_rendered;    // per level: the last query that completed it
   std::uint32_t m_friction_query = 0;             // queries so far (the anchors' stamps)
+  double m_last_normal_load = 0.0;  // Σ|f_n| of the last query (N), for the anchors' stretch
 };
 
 }  // namespace khz::contact

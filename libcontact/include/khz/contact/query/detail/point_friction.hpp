@@ -15,6 +15,9 @@ namespace khz::contact::detail {
 /// Where a point of the pointshell stuck to the field object.
 struct FrictionAnchor {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< Field body frame (m).
+  /// The pair's total normal load Σ|f_n| (N, before L/ℓ) that the anchor's stretch was last
+  /// measured against (add_point_friction()'s pair_load; 0: none yet).
+  double load = 0.0;
   /// The query that last found the point in contact (ContactWorkspace's friction count; 0:
   /// none). The anchor holds while no query since then has rendered the point's level.
   std::uint32_t query = 0;
@@ -48,6 +51,7 @@ struct FrictionSums {
   Eigen::Matrix<double, 6, 6> moments = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix3d lever_moments = Eigen::Matrix3d::Zero();  ///< Σ r (k r − f)ᵀ − k (N·s) N rᵀ
   std::int64_t sliding = 0;                                 ///< Points that slid.
+  double normal_load = 0.0;  ///< Σ|f_n| (N): the next query's pair_load.
 
   /// [Σ ∂f_t/∂x, Σ ∂f_t/∂ω; Σ ∂(r × f_t)/∂x, Σ ∂(r × f_t)/∂ω] for the motion ContactSums
   /// describes, complete per point (the normal's turn and the lever's included) except the
@@ -75,7 +79,17 @@ struct FrictionPoint {
 /// The tangential force of `point` on the field object (world), added to `sums` with its
 /// derivatives; `anchor` is moved as the point sticks or slides and stamped with `query`.
 /// `anchored`: whether the anchor holds (FrictionOptions); if not, the point anchors where it is
-/// and adds nothing. World ← field body: `field_rotation`, `field_translation`.
+/// and adds nothing. World ← field body: `field_rotation`, `field_translation`. `pair_load`: the
+/// pair's total normal load Σ|f_n| in its last query (N, before L/ℓ; 0 before the first).
+///
+/// A held anchor is first brought to the contact's load: when `pair_load` exceeds the load its
+/// stretch was last measured against (FrictionAnchor::load), the stretch P s shrinks by their
+/// ratio, so that the spring keeps its pull as k_t grows (a contact pressed harder while stuck
+/// keeps its tangential force, as in Mindlin and Deresiewicz's elastic spheres) and stores no
+/// energy the hand did not put in. The pair's total decides, not the point's own load: a load
+/// that only shifts between points (a pushed block rocking onto its front edge) rescales nothing,
+/// so every point still gives δ before it slides. The ratio comes from earlier queries, so the
+/// derivatives below hold as they are, for the anchor so moved.
 ///
 /// With s = x − a (a the anchor in the world), P = I − N Nᵀ, |f_n| = −c d and
 /// k_t = μ_s |f_n| / δ (δ = FrictionOptions::stick_distance), the pull is k_t P s while
@@ -90,13 +104,16 @@ struct FrictionPoint {
 ///   ∂(r × f)/∂x = r̃ ∂f/∂x,  ∂(r × f)/∂ω = r̃ ∂f/∂ω − f̃ r̃.
 inline Eigen::Vector3d add_point_friction(const FrictionPoint& point,
                                           const FrictionOptions& friction, bool anchored,
-                                          std::uint32_t query,
+                                          std::uint32_t query, double pair_load,
                                           const Eigen::Matrix3d& field_rotation,
                                           const Eigen::Vector3d& field_translation,
                                           FrictionAnchor& anchor, FrictionSums& sums) noexcept {
   const bool slid_before = anchored && anchor.state == FrictionState::sliding;
   anchor.query = query;
   anchor.state = FrictionState::stuck;
+  sums.normal_load += -point.normal_stiffness * point.depth;
+  const double stretched_under = anchor.load;
+  anchor.load = pair_load;
   if (!anchored) {
     anchor.position = point.field_point;
     anchor.state = FrictionState::anchored;
@@ -104,8 +121,16 @@ inline Eigen::Vector3d add_point_friction(const FrictionPoint& point,
   }
   const Eigen::Vector3d& n = point.normal;
   const Eigen::Vector3d& r = point.lever;
-  const Eigen::Vector3d s = point.x - (field_rotation * anchor.position + field_translation);
-  const Eigen::Vector3d tangential = s - n.dot(s) * n;  // P s
+  Eigen::Vector3d s = point.x - (field_rotation * anchor.position + field_translation);
+  Eigen::Vector3d tangential = s - n.dot(s) * n;  // P s
+  if (stretched_under > 0.0 && pair_load > stretched_under) {
+    // The contact was pressed harder: keep the pull it had (Mindlin-Deresiewicz), so that the
+    // stiffer springs store nothing the hand did not put in.
+    const double shrink = 1.0 - stretched_under / pair_load;
+    anchor.position += field_rotation.transpose() * (shrink * tangential);
+    s -= shrink * tangential;
+    tangential -= shrink * tangential;
+  }
   // k_t ∝ |f_n|: every point reaches its cone after the same give δ, so a rigid push breaks
   // the whole contact loose at μ_s Σ|f_n| however the load is spread over its points.
   const double stiffness_by_depth =

@@ -365,7 +365,7 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
         if (with_friction) {
           f += add_point_friction({x, lever, normal, gradient, field_point, d, weight * stiffness},
                                   friction, ws.anchor_holds(s, level), ws.m_friction_query,
-                                  rotation_f, frames.field.translation(),
+                                  ws.m_last_normal_load, rotation_f, frames.field.translation(),
                                   ws.m_anchors[static_cast<std::size_t>(s)], friction_sums);
         }
         if constexpr (Points::deformable) {
@@ -475,6 +475,7 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
       scale * (tangential.bottomRightCorner<3, 3>() + sums.moments.bottomRightCorner<3, 3>() +
                cross_matrix(sums.torque));
   stats.points_sliding = friction_sums.sliding;
+  if (with_friction) ws.m_last_normal_load = friction_sums.normal_load;
   if constexpr (Points::deformable) {
     result.pointshell_reduced_force = scale * ws.m_contact_reduced_force;
   } else {
