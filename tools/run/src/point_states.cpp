@@ -38,10 +38,11 @@ PointPicture classify_points(const haptic::Body& pointshell,
                              const Eigen::Ref<const Eigen::VectorXd>& coordinates,
                              const haptic::Body& field, int deepest_level) {
   const auto* deformable = std::get_if<const contact::DeformablePointTree*>(&pointshell.pointshell);
-  if (point_tree(pointshell) == nullptr) {
+  const contact::PointTree* const found = point_tree(pointshell);
+  if (found == nullptr) {
     throw reduced::Error("classify_points: body '" + pointshell.name + "' has no pointshell");
   }
-  const contact::PointTree& tree = *point_tree(pointshell);
+  const contact::PointTree& tree = *found;
   PointPicture picture;
   if (deepest_level < 0) return picture;
   const int last = std::min(deepest_level, tree.num_levels() - 1);

@@ -39,9 +39,9 @@ class SnapshotPoints {
   /// Every drawn pair's points as in `snapshot`: run::classify_points() of its pointshell at
   /// the snapshot's pose and q against its field at the snapshot's pose (and q), down to the
   /// pair's deepest level, its sliding points marked (run::mark_sliding()). A q that a deformed
-  /// field refuses (contact::DeformedFieldState:: update() returns false, as it did on the haptic
-  /// thread) leaves that field at the last q it took. Allocates and costs one distance per node
-  /// looked at: not for the haptic thread.
+  /// field refuses (contact::DeformedFieldState::update() returns false, as it did on the
+  /// haptic thread) leaves that field at the last q it took. Allocates and costs one distance per
+  /// node looked at: not for the haptic thread.
   /// @returns picture_count() pictures, valid until the next call.
   const std::vector<run::PointPicture>& classify(const SceneSnapshot& snapshot);
 
