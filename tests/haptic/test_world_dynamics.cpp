@@ -296,6 +296,44 @@ TEST(WorldDynamics, ABlockPushedOnAFloorSlidesOnlyAtTheStaticFrictionForce) {
             world.pair_result(rest).statistics.points_in_contact);
 }
 
+// A held paddle leaning lightly on a sleeping block wakes it, the block falls asleep again once
+// still, and is woken again, over and over. The block's pair with the floor comes first in the
+// World's pairs, so in a waking cycle it has already been passed over (the block slept) when
+// the paddle's pair wakes the block: the block must not move in that cycle, or it would be
+// stepped with no floor under it (and fall g h² = 10 µm each time).
+TEST(WorldDynamics, ABodyWokenMidCycleWaitsForAllItsContactsBeforeItMoves) {
+  SetHand hand;
+  Body tool;
+  tool.name = "paddle";
+  tool.pointshell = &paddle_shell();
+  tool.pose.translation() = Eigen::Vector3d(-half_side - 0.01 - 0.002, 0.0, 0.015);
+  hand.device.set_pose(hard_cases::at(tool.pose.translation()));
+  Hand holding = hand_holding_body_0(hand);
+  holding.body = 2;
+  World world({dynamic_box({0, 0, half_side}, true), fixed_floor(), tool}, {holding},
+              contact_options(), [](int a, int b) { return std::min(a, b) != 1 || a + b != 3; });
+  world.set_pair_friction(0, 1, {0.5, 0.4, 1e-4});
+  ASSERT_EQ(world.pairs()[0].pointshell, 0);
+  ASSERT_EQ(world.pairs()[0].field, 1) << "the block–floor pair is queried first";
+  run(world, 500);
+  ASSERT_TRUE(world.asleep(0));
+  const double resting = world.motion(0)->centre().z();
+  // The paddle moves 2.2 mm to lean 0.2 mm into the block's side, and holds there for 2 s.
+  hand.device.set_pose(hard_cases::at(tool.pose.translation() + Eigen::Vector3d(0.0022, 0, 0)));
+  double lowest = resting;
+  int wakes = 0;
+  bool was_asleep = true;
+  for (int i = 500; i < 2500; ++i) {
+    world.cycle(i * 1e-3, (i + 1) * 1e-3, [] { return 0.0; });
+    lowest = std::min(lowest, world.motion(0)->centre().z());
+    wakes += was_asleep && !world.asleep(0) ? 1 : 0;
+    was_asleep = world.asleep(0);
+  }
+  EXPECT_GE(wakes, 3) << "the paddle keeps waking the block";
+  EXPECT_LE(resting - lowest, 1e-6) << "woken, the block never fell through its floor contact";
+  std::printf("woken %d times, lowest %.3g m below its rest\n", wakes, resting - lowest);
+}
+
 // With dynamic bodies, friction and a grasp, a cycle allocates nothing (nor do grasp() and
 // release()).
 TEST(WorldDynamics, ACycleAllocatesNothing) {

@@ -81,6 +81,9 @@ struct World::Data {
     double gyration_radius = 0.0;  // √(trace I / m), m: turning speed as a point speed
     double still_time = 0.0;       // s below DynamicsOptions::sleep_speed
     bool asleep = false;
+    // Woken by a query this cycle: some of its pairs may have been passed over while it slept,
+    // so it waits for the next cycle, which queries them all, before it moves.
+    bool woken = false;
     int hand = -1;                                              // the hand that grasped it, or −1
     Eigen::Isometry3d in_hand = Eigen::Isometry3d::Identity();  // held body ← it, while grasped
   };
@@ -470,6 +473,10 @@ void World::step_dynamic_bodies() noexcept {
   const DynamicsOptions& options = d.dynamics_options;
   for (Data::DynamicState& body : d.dynamics) {
     if (body.hand >= 0 || body.asleep) continue;
+    if (body.woken) {
+      body.woken = false;
+      continue;
+    }
     const contact::ContactWrench& w = body.wrench;
     const Eigen::Vector3d force = w.force - options.time_step * body.carried.head<3>();
     const Eigen::Vector3d torque = w.torque - options.time_step * body.carried.tail<3>();
@@ -572,6 +579,7 @@ bool World::query_pairs() noexcept {
     if (Data::DynamicState* touched = d.dynamic(other);
         touched != nullptr && touched->asleep && (contact || state.had_contact)) {
       touched->asleep = false;
+      touched->woken = true;
       touched->still_time = 0.0;
     }
     state.had_contact = contact;

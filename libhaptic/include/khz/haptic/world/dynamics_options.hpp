@@ -26,7 +26,8 @@ struct KHZ_HAPTIC_API DynamicsOptions {
   /// points have turned about it slower than this (angular speed × radius of gyration) (m/s).
   /// A sleeping body is neither stepped nor queried against bodies that do not move: it costs
   /// nothing and cannot drift. It wakes when a moving body touches it, stops touching it, or a
-  /// hand grasps or releases it. 0 never sleeps.
+  /// hand grasps or releases it; woken by a touch, it moves from the next cycle, once all its
+  /// contacts are queried again. 0 never sleeps.
   double sleep_speed = 1e-3;
   double sleep_time = 0.25;  ///< s, ≥ 0.
 
