@@ -33,6 +33,7 @@ ContactOptions friction_options(double static_coefficient, double kinetic_coeffi
   options.scaling_count = 1e9;  // no L/ℓ scaling: the sums are the closed forms
   options.friction.static_coefficient = static_coefficient;
   options.friction.kinetic_coefficient = kinetic_coefficient;
+  options.friction.stick_distance = 1e-4;  // the fields are analytic: no voxel for the default
   return options;
 }
 
@@ -493,13 +494,76 @@ TEST(ContactFriction, DeformedFieldsReducedForceCarriesTheTangentialReaction) {
   EXPECT_LE((result.field_reduced_force - body_force).norm(), 1e-12 * body_force.norm());
 }
 
+// The ground sampled on a grid of voxel h = 2 mm (its node values exact: d = z is trilinear).
+DistanceGrid gridded_ground(double h) {
+  GridGeometry geometry;
+  geometry.cells = 50;
+  geometry.spacing = h;
+  geometry.origin = Eigen::Vector3d::Constant(-25.0 * h);
+  const int n = geometry.cells + 1;
+  std::vector<float> values;
+  values.reserve(static_cast<std::size_t>(n) * n * n);
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i)
+        values.push_back(static_cast<float>(geometry.node_position(i, j, k).z()));
+    }
+  }
+  return DistanceGrid(geometry, std::move(values), true);
+}
+
+// Left at 0, the stick distance is μ_s h of the field queried: on a 2 mm grid with μ_s = 0.5
+// the patch breaks loose after δ = 1 mm, exactly as with that δ given; against an analytic
+// field, which has no voxel, the query refuses until δ is given.
+TEST(ContactFriction, TheDefaultStickDistanceIsTheStaticCoefficientTimesTheFieldsVoxel) {
+  constexpr int n = 5;
+  constexpr double depth = 1e-3, h = 2e-3;
+  const PointTree patch = flat_patch(n);
+  const DistanceGrid floor = gridded_ground(h);
+  EXPECT_EQ(floor.cell_size(), h);
+  ContactOptions automatic = friction_options(0.5, 0.3);
+  automatic.friction.stick_distance = 0.0;
+  automatic.haptic_object = HapticObject::pointshell;
+  ContactOptions given = automatic;
+  given.friction.stick_distance = 0.5 * h;
+  EXPECT_EQ(automatic.friction.stick_distance_for(h), given.friction.stick_distance);
+
+  ContactWorkspace by_default(patch, automatic), by_hand(patch, given);
+  for (const double slide : {0.0, 0.5 * 0.99 * h, 0.5 * 1.01 * h, 0.5 * 1.5 * h}) {
+    const ContactFrames frames = patch_frames(depth, {slide, 0.0, 0.0});
+    ASSERT_TRUE(query_contact(patch, floor, frames, by_default));
+    ASSERT_TRUE(query_contact(patch, floor, frames, by_hand));
+    EXPECT_EQ(by_default.result().force, by_hand.result().force) << slide;
+    EXPECT_EQ(by_default.result().force_by_translation, by_hand.result().force_by_translation);
+    EXPECT_EQ(by_default.result().statistics.points_sliding,
+              by_hand.result().statistics.points_sliding);
+    // Stuck below μ_s h, sliding past it (the breakaway distance is δ; the closed forms are
+    // FlatPatchSticksUpToTheStaticLimitThenSlidesAtTheKineticOne's).
+    EXPECT_EQ(by_default.result().statistics.points_sliding, slide > 0.5 * h ? n * n : 0) << slide;
+  }
+
+  const ImplicitShape analytic = ground();
+  ContactWorkspace refused(patch, automatic);
+  EXPECT_FALSE(
+      query_contact(patch, analytic, patch_frames(depth, Eigen::Vector3d::Zero()), refused));
+  EXPECT_EQ(refused.result().force, Eigen::Vector3d::Zero());
+  ContactWorkspace accepted(patch, given);
+  EXPECT_TRUE(
+      query_contact(patch, analytic, patch_frames(depth, Eigen::Vector3d::Zero()), accepted));
+  // Without friction the default needs no voxel.
+  ContactOptions frictionless = automatic;
+  frictionless.friction.static_coefficient = frictionless.friction.kinetic_coefficient = 0.0;
+  ContactWorkspace plain(patch, frictionless);
+  EXPECT_TRUE(query_contact(patch, analytic, patch_frames(depth, Eigen::Vector3d::Zero()), plain));
+}
+
 TEST(ContactFriction, RejectsBadCoefficientsAndAllocatesNothingPerQuery) {
   const PointTree& sphere = fixture().sphere;
   for (const auto& [mu_s, mu_k, ratio] :
        std::vector<std::tuple<double, double, double>>{{-0.1, 0.0, 1.0},
                                                        {0.3, 0.4, 1.0},
                                                        {0.5, -0.1, 1.0},
-                                                       {0.5, 0.4, 0.0},
+                                                       {0.5, 0.4, -1e-4},
                                                        {std::nan(""), 0.0, 1.0},
                                                        {0.5, 0.4, INFINITY}}) {
     ContactOptions options;

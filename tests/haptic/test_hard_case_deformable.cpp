@@ -76,6 +76,10 @@ class HardCases : public ::testing::TestWithParam<Rubbing> {
   contact::ContactOptions options(contact::HapticObject held) const {
     return contact_options(held, GetParam().friction);
   }
+  /// The same against an analytic field (on_analytic_field()).
+  contact::ContactOptions analytic_options(contact::HapticObject held) const {
+    return contact_options(held, on_analytic_field(GetParam().friction));
+  }
 };
 
 INSTANTIATE_TEST_SUITE_P(, HardCases, ::testing::ValuesIn(rubbings()), RubbingName());
@@ -86,7 +90,7 @@ TEST_P(HardCases, DeformablePointshellPushedHardAndReleased) {
   // at its centre. The hand comes down on the beam 3 cm from its tip, pushes 3 cm past its top
   // face (far beyond what the saturated coupling transmits), holds, and lets go at t = 0.8 s.
   const contact::ImplicitShape ball = contact::Sphere(Eigen::Vector3d::Zero(), ball_radius);
-  const PairScene scene(b.tree, ball, options(contact::HapticObject::distance_field),
+  const PairScene scene(b.tree, ball, analytic_options(contact::HapticObject::distance_field),
                         Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity(), b.integrator.get());
   const Eigen::Vector3d above(0.17, 0.01, beam_side + ball_radius + 0.01);
   const TargetFunction target = keyframe_target({{0.0, at(above)},

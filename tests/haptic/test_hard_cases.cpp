@@ -38,6 +38,10 @@ class HapticHardCases : public ::testing::TestWithParam<Rubbing> {
   contact::ContactOptions options(HapticObject held) const {
     return contact_options(held, GetParam().friction);
   }
+  /// The same against an analytic field (on_analytic_field()).
+  contact::ContactOptions analytic_options(HapticObject held) const {
+    return contact_options(held, on_analytic_field(GetParam().friction));
+  }
 };
 
 INSTANTIATE_TEST_SUITE_P(, HapticHardCases, ::testing::ValuesIn(rubbings()), RubbingName());
@@ -82,8 +86,8 @@ TEST_P(HapticHardCases, FastMotionInFreeSpaceSnapsThroughTheSaturatedCouplingWit
   // direction, and the speed limit bounds the snap to d_max per cycle.
   const contact::PointTree ball = nested_tree(sphere_pointshell(0.03, 85 * 16), 85);
   const contact::ImplicitShape floor = contact::HalfSpace(Eigen::Vector3d::UnitZ(), -1.0);
-  const PairScene scene(ball, floor, options(HapticObject::pointshell), Eigen::Vector3d::Zero(),
-                        Eigen::Isometry3d::Identity());
+  const PairScene scene(ball, floor, analytic_options(HapticObject::pointshell),
+                        Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity());
   const Eigen::Vector3d far(0.15, 0.1, 0.05);
   const CouplingOptions options = coupling_options(0.03);
   Harness run(keyframe_target({{0.0, at(Eigen::Vector3d::Zero())},
@@ -196,8 +200,8 @@ TEST_P(HapticHardCases, APegMovedFastAlongItsShaftSlidesWithItAndCannotLeaveSide
       nested_tree(box_pointshell(Eigen::Vector3d::Zero(), half, 2.5e-3), 14);
   constexpr double interference = 2.5e-4;
   const contact::ImplicitUnion shaft = square_shaft(half.x() - interference);
-  const PairScene scene(peg, shaft, options(HapticObject::pointshell), Eigen::Vector3d::Zero(),
-                        Eigen::Isometry3d::Identity());
+  const PairScene scene(peg, shaft, analytic_options(HapticObject::pointshell),
+                        Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity());
   const CouplingOptions options = coupling_options(half.norm());
   Harness run(peg_in_shaft_script(), scene, options, [&](const Pose& grasp) {
     return deepest_penetration(peg.pointshell().points, shaft,
@@ -276,8 +280,8 @@ TEST_P(HapticHardCases, ABoxSqueezedBetweenTwoPlanesFollowsFastInPlaneMotion) {
   const contact::ImplicitUnion planes(
       {contact::ImplicitShape(contact::HalfSpace(Eigen::Vector3d::UnitZ(), -a)),
        contact::ImplicitShape(contact::HalfSpace(-Eigen::Vector3d::UnitZ(), -a))});
-  const PairScene scene(box, planes, options(HapticObject::pointshell), Eigen::Vector3d::Zero(),
-                        Eigen::Isometry3d::Identity());
+  const PairScene scene(box, planes, analytic_options(HapticObject::pointshell),
+                        Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity());
   const CouplingOptions options = coupling_options(half.norm());
   const Eigen::Vector3d far(0.1, 0.1, 0.0);
   Harness run(keyframe_target({{0.0, at(Eigen::Vector3d::Zero())},
@@ -411,8 +415,8 @@ TEST_P(HapticHardCases, TurningPastAHalfTurnTurnsTheObjectTheShortWayWithoutATor
   const contact::PointTree box =
       nested_tree(box_pointshell(Eigen::Vector3d::Zero(), half, 2.5e-3), 12);
   const contact::ImplicitShape floor = contact::HalfSpace(Eigen::Vector3d::UnitZ(), 0.0);
-  const PairScene scene(box, floor, options(HapticObject::pointshell), Eigen::Vector3d::Zero(),
-                        Eigen::Isometry3d::Identity());
+  const PairScene scene(box, floor, analytic_options(HapticObject::pointshell),
+                        Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity());
   const CouplingOptions options = coupling_options(half.norm());
   const HandModel hand;
   const Eigen::Vector3d rest(0.0, 0.0, half.z() - 1.0 / hand.stiffness - 1.0 / coupling_stiffness);
@@ -477,8 +481,8 @@ TEST_P(HapticHardCases, ARodLeveredAgainstAPillarIsHeldByTheSizeAwareTorqueSatur
       nested_tree(box_pointshell(Eigen::Vector3d::Zero(), half, 2.5e-3), 20);
   const contact::ImplicitShape pillar = contact::Cylinder(
       Eigen::Vector3d(0.09, 0.013, -0.05), Eigen::Vector3d(0.09, 0.013, 0.05), 0.004);
-  const PairScene scene(rod, pillar, options(HapticObject::pointshell), Eigen::Vector3d::Zero(),
-                        Eigen::Isometry3d::Identity());
+  const PairScene scene(rod, pillar, analytic_options(HapticObject::pointshell),
+                        Eigen::Vector3d::Zero(), Eigen::Isometry3d::Identity());
   CouplingOptions options = coupling_options(half.norm());
   options.torque_stiffness = 2.0;
   const double plateau = options.springs().saturation_torque;
@@ -624,7 +628,7 @@ TEST_P(HapticHardCases, ANaNPoseOrADisconnectMidContactRendersZeroAtOnceAndRecov
   // A 3 cm ball pressed onto a floor with 3 N of hand force (the coupling saturated). At 1.0 s
   // the device reports NaN positions for 5 reads, at 1.6 s it disconnects for 5 reads. The hand
   // keeps pushing through both, so the device sinks while nothing is rendered.
-  const BallOnFloor b(options(HapticObject::pointshell));
+  const BallOnFloor b(analytic_options(HapticObject::pointshell));
   const double radius = BallOnFloor::radius, pressed = b.pressed;
   SafetyOptions safety;
   safety.ramp_cycles = 20;
@@ -650,7 +654,7 @@ TEST_P(HapticHardCases, ANaNPoseOrADisconnectMidContactRendersZeroAtOnceAndRecov
     // queries it there (another hand's body could be touching it), and the record holds that
     // fresh contact, equal to a separate query at the held pose.
     const Pose held = run.trace().back().record.simulation;
-    contact::ContactWorkspace reference(b.ball, options(HapticObject::pointshell));
+    contact::ContactWorkspace reference(b.ball, analytic_options(HapticObject::pointshell));
     contact::ContactFrames frames;
     frames.pointshell = held_body_pose(held, Eigen::Vector3d::Zero());
     frames.grasp_point = held.position;
@@ -702,7 +706,7 @@ TEST_P(HapticHardCases, ANaNPoseOrADisconnectMidContactRendersZeroAtOnceAndRecov
 // press, and the stall gives the hand no energy: the passivity observer (CycleMetrics) never
 // falls below its value before the stall.
 TEST_P(HapticHardCases, AStalledLoopRendersNoSpikeAndGivesNoEnergy) {
-  const BallOnFloor b(options(HapticObject::pointshell));
+  const BallOnFloor b(analytic_options(HapticObject::pointshell));
   const double radius = BallOnFloor::radius, pressed = b.pressed;
   SafetyOptions safety;
   safety.ramp_cycles = 20;
@@ -746,7 +750,7 @@ TEST_P(HapticHardCases, AStalledLoopRendersNoSpikeAndGivesNoEnergy) {
 // held ball (World passes it as the pending force): nothing is rendered while the hand is inside,
 // then at most the 1 N threshold, and the later press renders as usual.
 TEST_P(HapticHardCases, StartingInsideAnObjectRendersNothingUntilTheHandIsOut) {
-  const BallOnFloor b(options(HapticObject::pointshell));
+  const BallOnFloor b(analytic_options(HapticObject::pointshell));
   const double radius = BallOnFloor::radius, pressed = b.pressed;
   SafetyOptions safety;
   safety.ramp_cycles = 20;
@@ -784,7 +788,7 @@ TEST_P(HapticHardCases, StartingInsideAnObjectRendersNothingUntilTheHandIsOut) {
 // (onset_torque, 0.05 N·m): nothing is rendered while the coupling turns the ball into line,
 // then no more than the threshold.
 TEST_P(HapticHardCases, StartingTurnedAwayFromTheHeldObjectGivesNoTorqueKick) {
-  const BallOnFloor b(options(HapticObject::pointshell));
+  const BallOnFloor b(analytic_options(HapticObject::pointshell));
   const double radius = BallOnFloor::radius;
   SafetyOptions safety;
   safety.ramp_cycles = 20;
@@ -819,7 +823,8 @@ TEST_P(HapticHardCases, StartingTurnedAwayFromTheHeldObjectGivesNoTorqueKick) {
 // when a stuck point's depth changes: docs/CONTACT.md). Its points stuck and slid, and the loop
 // stayed as safe as every hard case.
 TEST(HapticHardCasesWithFriction, ABallSlidAlongAClosedPathTakesTheHandsEnergy) {
-  const BallOnFloor b(contact_options(HapticObject::pointshell, rubbings().back().friction));
+  const BallOnFloor b(
+      contact_options(HapticObject::pointshell, on_analytic_field(rubbings().back().friction)));
   const double radius = BallOnFloor::radius;
   Harness run(keyframe_target({{0.0, at({0.0, 0.0, radius + 0.02})},
                                {0.3, at({0.0, 0.0, b.pressed})},

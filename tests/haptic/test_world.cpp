@@ -444,6 +444,16 @@ TEST(World, RefusesPairFrictionForBodiesThatDoNotTouch) {
         world.set_pair_friction(0, 1, {0.2, 0.3, 1e-4});
       },
       "friction.kinetic_coefficient must be finite, ≥ 0 and at most"));
+  // The floor is analytic: no voxel to choose the default stick distance from.
+  EXPECT_TRUE(throws_with_message<Error>(
+      [&] {
+        world.set_pair_friction(0, 1, {0.5, 0.4, 0.0});
+      },
+      "World: friction between body 'ball' and body 'floor' needs a stick_distance"));
+  contact::ContactOptions automatic = contact_options();
+  automatic.friction = {0.5, 0.4, 0.0};
+  EXPECT_TRUE(throws_with_message<Error>([&] { world.set_contact_options(automatic); },
+                                         "the field of body 'floor' is an analytic shape"));
   // set_contact_options() keeps a pair's own friction.
   world.set_contact_options(contact_options());
   EXPECT_EQ(world.pair_friction(1).static_coefficient, 0.5);

@@ -33,6 +33,7 @@ contact::FrictionOptions friction() {
   contact::FrictionOptions options;
   options.static_coefficient = static_coefficient;
   options.kinetic_coefficient = kinetic_coefficient;
+  options.stick_distance = 1e-4;  // the plane is analytic: no voxel for the default
   return options;
 }
 

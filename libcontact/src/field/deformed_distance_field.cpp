@@ -663,6 +663,14 @@ double evaluate(const DeformedDistanceField& field, const StateView& s, const Ei
 
 }  // namespace
 
+double DeformedFieldState::cell_size() const noexcept {
+  double finest = m_field->field(0).cell_size();
+  for (Eigen::Index d = 1; d < m_field->num_domains(); ++d) {
+    finest = std::min(finest, m_field->field(d).cell_size());
+  }
+  return finest;
+}
+
 double DeformedFieldState::distance(const Eigen::Vector3d& x) const noexcept {
   const StateView view{m_field->rest_positions().data(), m_positions.data(), m_inverse.data(),
                        m_count};

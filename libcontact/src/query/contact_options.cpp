@@ -50,8 +50,8 @@ void ContactOptions::validate() const {
       "friction.kinetic_coefficient", f.kinetic_coefficient,
       ("finite, ≥ 0 and at most friction.static_coefficient (" +
        std::to_string(f.static_coefficient) + ")"));
-  require(finite_positive(f.stick_distance), "friction.stick_distance", f.stick_distance,
-          "finite and > 0 (m)");
+  require(finite_non_negative(f.stick_distance), "friction.stick_distance", f.stick_distance,
+          "finite and ≥ 0 (m; 0: μ_s times the field's voxel)");
 }
 
 }  // namespace khz::contact

@@ -32,20 +32,17 @@ Eigen::Index field_dimension(const Body& body) noexcept {
 }
 
 /// The grid spacing penetration is counted in (m): a grid's, the finest domain's of a deformed
-/// field; 0 for analytic fields, which have none.
+/// field (contact::CellSizedDistanceField); 0 for analytic fields, which have none.
 double voxel_size(const Body& body) noexcept {
-  if (const auto* grid = std::get_if<const contact::DistanceGrid*>(&body.field)) {
-    return (*grid)->geometry().spacing;
-  }
-  if (auto* const* state = std::get_if<contact::DeformedFieldState*>(&body.field)) {
-    const contact::DeformedDistanceField& field = (*state)->field();
-    double finest = field.field(0).geometry().spacing;
-    for (Eigen::Index domain = 1; domain < field.num_domains(); ++domain) {
-      finest = std::min(finest, field.field(domain).geometry().spacing);
-    }
-    return finest;
-  }
-  return 0.0;
+  return std::visit(
+      [](const auto& field) noexcept -> double {
+        if constexpr (requires { field->cell_size(); }) {
+          return field->cell_size();
+        } else {
+          return 0.0;
+        }
+      },
+      body.field);
 }
 
 }  // namespace
@@ -164,11 +161,20 @@ struct World::Data {
 
   /// `options` with the haptic object of pair `index` (the role of its hand's body) and the
   /// pair's own friction, if it has one.
+  /// @throws Error if that friction leaves the stick distance to the field's voxel and the
+  ///         pair's field has none (the query would refuse every cycle).
   contact::ContactOptions pair_options(
       const contact::ContactOptions& options, const WorldPair& pair,
       const std::optional<contact::FrictionOptions>& friction = std::nullopt) const {
     contact::ContactOptions result = options;
     if (friction) result.friction = *friction;
+    const Body& field = bodies[static_cast<std::size_t>(pair.field)];
+    if (result.friction.enabled() && result.friction.stick_distance_for(voxel_size(field)) <= 0.0) {
+      throw Error("World: friction between " + body_name(pair.pointshell) + " and " +
+                  body_name(pair.field) + " needs a stick_distance: the field of " +
+                  body_name(pair.field) +
+                  " is an analytic shape, with no voxel h to choose the default μ_s h from");
+    }
     result.haptic_object = pair.body == pair.pointshell ? contact::HapticObject::pointshell
                                                         : contact::HapticObject::distance_field;
     return result;
@@ -742,9 +748,12 @@ void World::reset_contact() noexcept {
 void World::set_contact_options(const contact::ContactOptions& options) {
   Data& d = *m_data;
   options.validate();
+  std::vector<contact::ContactOptions> per_pair;  // all checked before any pair changes
   for (std::size_t p = 0; p < d.pairs.size(); ++p) {
-    d.pair_states[p].workspace->set_options(
-        d.pair_options(options, d.pairs[p], d.pair_states[p].friction));
+    per_pair.push_back(d.pair_options(options, d.pairs[p], d.pair_states[p].friction));
+  }
+  for (std::size_t p = 0; p < d.pairs.size(); ++p) {
+    d.pair_states[p].workspace->set_options(per_pair[p]);
   }
   d.contact_options = options;
 }
@@ -766,18 +775,19 @@ void World::set_pair_friction(int body_a, int body_b, const contact::FrictionOpt
   contact::ContactOptions checked = d.contact_options;
   checked.friction = friction;
   checked.validate();
-  bool found = false;
+  std::vector<std::pair<std::size_t, contact::ContactOptions>> joined;  // all checked first
   for (std::size_t p = 0; p < d.pairs.size(); ++p) {
     const WorldPair& pair = d.pairs[p];
-    if (!((pair.pointshell == body_a && pair.field == body_b) ||
-          (pair.pointshell == body_b && pair.field == body_a))) {
-      continue;
+    if ((pair.pointshell == body_a && pair.field == body_b) ||
+        (pair.pointshell == body_b && pair.field == body_a)) {
+      joined.emplace_back(p, d.pair_options(d.contact_options, pair, friction));
     }
-    d.pair_states[p].friction = friction;
-    d.pair_states[p].workspace->set_options(d.pair_options(d.contact_options, pair, friction));
-    found = true;
   }
-  if (!found) {
+  for (const auto& [p, options] : joined) {
+    d.pair_states[p].friction = friction;
+    d.pair_states[p].workspace->set_options(options);
+  }
+  if (joined.empty()) {
     throw Error("World::set_pair_friction: " + d.body_name(body_a) + " and " + d.body_name(body_b) +
                 " never touch (neither is held or dynamic, or their roles do not meet)");
   }

@@ -53,7 +53,8 @@ struct PairDescription {
   /// Their indices in SceneDescription::objects (filled in by the reader).
   std::array<int, 2> object_indices{-1, -1};
   /// "friction": contact::FrictionOptions of this pair as {"static", "kinetic",
-  /// "stick_distance"}; a key left out keeps the scene's "contact.friction" value.
+  /// "stick_distance"}; a key left out keeps the scene's "contact.friction" value
+  /// ("stick_distance" left out everywhere: 0, μ_s times the voxel of the pair's field).
   contact::FrictionOptions friction;
 };
 

@@ -198,6 +198,8 @@ class KHZ_CONTACT_API DeformedFieldState {
   /// field().displacement_bound(): with coordinates(), what lets temporal coherence bound how
   /// fast the deformed surface moves (BoundedDeformableDistanceField).
   double displacement_bound() const noexcept { return m_field->displacement_bound(); }
+  /// h (m): the finest spacing of the domains' rest-shape grids (a CellSizedDistanceField).
+  double cell_size() const noexcept;
   /// The reduced coordinates of the last successful update() (zero before the first).
   const Eigen::VectorXd& coordinates() const noexcept { return m_q; }
   /// Deforms the proxies to reduced coordinates q (r entries): ~12 N r flops and N 3×3

@@ -45,6 +45,15 @@ concept BatchCullingDistanceField = CullingDistanceField<Field> &&
   noexcept;
 };
 
+/// A DistanceField sampled on cells: cell_size() is h (m, > 0), the length below which it
+/// resolves no detail (a grid's spacing). The contact query chooses friction's default stick
+/// distance from it (FrictionOptions::stick_distance); analytic shapes have none.
+template <typename Field>
+concept CellSizedDistanceField = DistanceField<Field> && requires(const Field& field) {
+  { field.cell_size() }
+  noexcept->std::convertible_to<double>;
+};
+
 /// A distance field of a reduced deformable object (thesis §3.12), in its current deformation:
 /// besides the distances it takes the reaction of a contact, so the contact query can apply it to
 /// the object's integrator.

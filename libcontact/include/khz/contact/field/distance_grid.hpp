@@ -42,6 +42,9 @@ class KHZ_CONTACT_API DistanceGrid {
   DistanceGrid(const GridGeometry& geometry, std::vector<float> values, bool is_signed);
 
   const GridGeometry& geometry() const noexcept { return m_geometry; }
+  /// h (m): the spacing of the grid, below which the field resolves no detail (a
+  /// CellSizedDistanceField).
+  double cell_size() const noexcept { return m_geometry.spacing; }
   bool is_signed() const noexcept { return m_signed; }
   /// All node values, x fastest.
   std::span<const float> values() const noexcept { return m_values; }

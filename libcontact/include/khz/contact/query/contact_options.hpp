@@ -148,16 +148,24 @@ struct KHZ_CONTACT_API FrictionOptions {
   /// μ_k in [0, μ_s]: the pull of a sliding point, μ_k |f_n|, and the limit under which it
   /// sticks again.
   double kinetic_coefficient = 0.0;
-  /// δ > 0 (m): how far a stuck point moves along the surface from its anchor before it slides
+  /// δ (m): how far a stuck point moves along the surface from its anchor before it slides
   /// (the presliding displacement, Hayward and Armstrong's z_max); the anchor spring's stiffness
   /// per point is μ_s |f_n| / δ. Smaller is stiffer: a stuck point is as stiff sideways as into
-  /// the surface when δ = μ_s |d|, and stiffer below that depth. A haptic scene should choose
-  /// δ ≈ μ_s h, h the field's voxel (with saturation a contact at rest is pressed in up to h/2),
-  /// so that no point is stiffer sideways than w k_C, the bound the L/ℓ scaling keeps for the
-  /// whole contact (§3.5, §4.7); docs/CONTACT.md shows a tight ball-and-socket contact that
-  /// loses its passivity with anchors ten times stiffer. The default suits contacts pressed in
-  /// less than 0.2 mm at μ_s = 0.5.
-  double stick_distance = 1e-4;
+  /// the surface when δ = μ_s |d|, and stiffer below that depth.
+  /// 0 (the default) chooses δ = μ_s h per query, h the voxel of the field queried
+  /// (field_cell_size()): with saturation a contact at rest is pressed in up to h/2 (§4.9), so
+  /// no stuck point is stiffer sideways than half its normal stiffness and the whole contact
+  /// stays within the w k_C bound the L/ℓ scaling keeps (§3.5, §4.7). docs/CONTACT.md shows a
+  /// tight ball-and-socket contact that loses its passivity with anchors ten times stiffer.
+  /// A field without a voxel (an analytic shape) has no such default: give δ > 0, or the query
+  /// refuses (returns false).
+  double stick_distance = 0.0;
+
+  /// δ for a field of voxel `cell_size` (m): stick_distance if given (> 0), else
+  /// μ_s × cell_size (0 when cell_size is 0: no voxel to choose it from).
+  double stick_distance_for(double cell_size) const noexcept {
+    return stick_distance > 0.0 ? stick_distance : static_coefficient * cell_size;
+  }
 
   /// Whether friction is on (μ_s > 0).
   bool enabled() const noexcept { return static_coefficient > 0.0; }

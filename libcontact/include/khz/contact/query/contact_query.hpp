@@ -27,8 +27,9 @@ namespace khz::contact {
 ///
 /// Cost (bench_contact_query): about 1 distance lookup and 20 flops per traversed node.
 /// Allocates nothing, throws nothing, takes no lock.
-/// @returns false, with a zero result, if the workspace was made for another tree or a pose or
-///          the grasp point is not finite.
+/// @returns false, with a zero result, if the workspace was made for another tree, a pose or
+///          the grasp point is not finite, or friction is on with its default stick distance
+///          against a field without cells (FrictionOptions::stick_distance).
 template <DistanceField Field>
 bool query_contact(const PointTree& tree, const Field& field, const ContactFrames& frames,
                    ContactWorkspace& workspace) noexcept {

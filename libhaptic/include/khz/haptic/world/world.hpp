@@ -82,7 +82,9 @@ class KHZ_HAPTIC_API World {
   ///         hand without a device, a held body with neither role, a held body that is dynamic
   ///         (grasp it instead), a dynamic body that is reduced or whose inertia fails
   ///         RigidInertia::validate(), a reduced body without an integrator of its tree's or
-  ///         field's r, invalid coupling or contact options, or no pair at all.
+  ///         field's r, invalid coupling or contact options, friction with the default stick
+  ///         distance against a body whose field is analytic (no voxel to choose it from), or
+  ///         no pair at all.
   World(std::vector<Body> bodies, std::vector<Hand> hands, const contact::ContactOptions& options,
         PairFilter filter = {});
   ~World();
@@ -171,7 +173,8 @@ class KHZ_HAPTIC_API World {
   /// Forgets every pair's temporal coherence and level of detail (after a jump of a body).
   void reset_contact() noexcept;
   /// Replaces every pair's contact options (and resets them). The pairs stay as built.
-  /// @throws Error as contact::ContactWorkspace.
+  /// @throws Error as contact::ContactWorkspace, or as the constructor for friction's default
+  ///         stick distance against an analytic field.
   void set_contact_options(const contact::ContactOptions& options);
   /// The contact options last given (constructor or set_contact_options()), before each pair
   /// gets its hand's role as the haptic object.
@@ -180,7 +183,8 @@ class KHZ_HAPTIC_API World {
   /// friction in place of contact_options().friction, now and after set_contact_options(); and
   /// resets them.
   /// @throws Error naming the bodies if a or b is out of range, they are the same, no pair joins
-  ///         them, or `friction` is invalid (contact::ContactOptions::validate()).
+  ///         them, `friction` is invalid (contact::ContactOptions::validate()), or it leaves
+  ///         the stick distance to the voxel of an analytic field, which has none.
   void set_pair_friction(int body_a, int body_b, const contact::FrictionOptions& friction);
   /// The friction pair `index` is queried with.
   const contact::FrictionOptions& pair_friction(int index) const noexcept;

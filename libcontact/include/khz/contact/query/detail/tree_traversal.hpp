@@ -189,6 +189,15 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
               frames.pointshell.matrix().allFinite() && frames.field.matrix().allFinite() &&
               frames.grasp_point.allFinite();
   if constexpr (deformable_field) fits = fits && field.dimension() == ws.m_field_dimension;
+  // Friction's default stick distance, μ_s h, needs the field's voxel h.
+  FrictionOptions friction = options.friction;
+  const bool with_friction = friction.enabled();
+  if (with_friction) {
+    double cell_size = 0.0;
+    if constexpr (CellSizedDistanceField<Field>) cell_size = field.cell_size();
+    friction.stick_distance = friction.stick_distance_for(cell_size);
+    fits = fits && friction.stick_distance > 0.0;
+  }
   if (!fits) {
     fail(ws);
     return false;
@@ -221,8 +230,6 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
   }
   ContactSums sums;
   FrictionSums friction_sums;
-  const FrictionOptions& friction = options.friction;
-  const bool with_friction = friction.enabled();
   if (with_friction) ws.begin_friction();
   ws.m_contact_reduced_force.setZero();
   result.field_reduced_force.setZero();
