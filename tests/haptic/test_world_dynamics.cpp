@@ -252,6 +252,17 @@ const contact::PointTree& paddle_shell() {
   return tree;
 }
 
+/// The held paddle, 2 mm from the block's −x face, 1.5 cm above the floor, and `hand`'s device
+/// at its grasp point.
+Body paddle_beside_block(SetHand& hand) {
+  Body tool;
+  tool.name = "paddle";
+  tool.pointshell = &paddle_shell();
+  tool.pose.translation() = Eigen::Vector3d(-half_side - 0.01 - 0.002, 0.0, 0.015);
+  hand.device.set_pose(hard_cases::at(tool.pose.translation()));
+  return tool;
+}
+
 // A held paddle pushes the 1 kg block resting on the floor (μ_s = 0.5, μ_k = 0.4) sideways, its
 // hand moving on at 2 cm/s: the block does not slide (beyond its anchors' give) until the push
 // reaches μ_s m g, within 2 %. The push is horizontal and has no turn about the vertical (the
@@ -260,11 +271,7 @@ const contact::PointTree& paddle_shell() {
 // normal force.
 TEST(WorldDynamics, ABlockPushedOnAFloorSlidesOnlyAtTheStaticFrictionForce) {
   SetHand hand;
-  Body tool;
-  tool.name = "paddle";
-  tool.pointshell = &paddle_shell();
-  tool.pose.translation() = Eigen::Vector3d(-half_side - 0.01 - 0.002, 0.0, 0.015);
-  hand.device.set_pose(hard_cases::at(tool.pose.translation()));
+  const Body tool = paddle_beside_block(hand);
   World world({tool, dynamic_box({0, 0, half_side}, true), fixed_floor()},
               {hand_holding_body_0(hand)}, contact_options(),
               [](int a, int b) { return !(a == 0 && b == 2); });
@@ -303,11 +310,7 @@ TEST(WorldDynamics, ABlockPushedOnAFloorSlidesOnlyAtTheStaticFrictionForce) {
 // stepped with no floor under it (and fall g h² = 10 µm each time).
 TEST(WorldDynamics, ABodyWokenMidCycleWaitsForAllItsContactsBeforeItMoves) {
   SetHand hand;
-  Body tool;
-  tool.name = "paddle";
-  tool.pointshell = &paddle_shell();
-  tool.pose.translation() = Eigen::Vector3d(-half_side - 0.01 - 0.002, 0.0, 0.015);
-  hand.device.set_pose(hard_cases::at(tool.pose.translation()));
+  const Body tool = paddle_beside_block(hand);
   Hand holding = hand_holding_body_0(hand);
   holding.body = 2;
   World world({dynamic_box({0, 0, half_side}, true), fixed_floor(), tool}, {holding},
