@@ -478,11 +478,8 @@ void World::step_dynamic_bodies() noexcept {
   Data& d = *m_data;
   const DynamicsOptions& options = d.dynamics_options;
   for (Data::DynamicState& body : d.dynamics) {
-    if (body.hand >= 0 || body.asleep) continue;
-    if (body.woken) {
-      body.woken = false;
-      continue;
-    }
+    const bool woken = std::exchange(body.woken, false);
+    if (body.hand >= 0 || body.asleep || woken) continue;
     const contact::ContactWrench& w = body.wrench;
     const Eigen::Vector3d force = w.force - options.time_step * body.carried.head<3>();
     const Eigen::Vector3d torque = w.torque - options.time_step * body.carried.tail<3>();

@@ -152,13 +152,13 @@ struct KHZ_CONTACT_API FrictionOptions {
   /// (the presliding displacement, Hayward and Armstrong's z_max); the anchor spring's stiffness
   /// per point is μ_s |f_n| / δ. Smaller is stiffer: a stuck point is as stiff sideways as into
   /// the surface when δ = μ_s |d|, and stiffer below that depth.
-  /// 0 (the default) chooses δ = μ_s h per query, h the voxel of the field queried
-  /// (field_cell_size()): with saturation a contact at rest is pressed in up to h/2 (§4.9), so
-  /// no stuck point is stiffer sideways than half its normal stiffness and the whole contact
-  /// stays within the w k_C bound the L/ℓ scaling keeps (§3.5, §4.7). docs/CONTACT.md shows a
-  /// tight ball-and-socket contact that loses its passivity with anchors ten times stiffer.
-  /// A field without a voxel (an analytic shape) has no such default: give δ > 0, or the query
-  /// refuses (returns false).
+  /// 0 (the default) chooses δ = μ_s h per query, h the voxel of the field queried (its
+  /// cell_size(), CellSizedDistanceField): with saturation a contact at rest is pressed in up to
+  /// h/2 (§4.9), so no stuck point is stiffer sideways than half its normal stiffness and the
+  /// whole contact stays within the w k_C bound the L/ℓ scaling keeps (§3.5, §4.7).
+  /// docs/CONTACT.md shows a tight ball-and-socket contact that loses its passivity with anchors
+  /// ten times stiffer. A field without a voxel (an analytic shape) has no such default: give
+  /// δ > 0, or the query refuses (returns false).
   double stick_distance = 0.0;
 
   /// δ for a field of voxel `cell_size` (m): stick_distance if given (> 0), else
