@@ -11,6 +11,7 @@
 #include <khz/haptic/world/world.hpp>
 #include <khz/test/sphere_points.hpp>
 
+#include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -88,6 +89,21 @@ inline contact::ContactOptions contact_options(contact::HapticObject held,
   options.friction = friction;
   return options;
 }
+
+/// The fixture of the cases run once per Rubbing (TEST_P): the cases' contact options with this
+/// run's friction.
+class RubbingCases : public ::testing::TestWithParam<Rubbing> {
+ protected:
+  bool frictionless() const { return !GetParam().friction.enabled(); }
+  /// contact_options() with this run's friction.
+  contact::ContactOptions options(contact::HapticObject held) const {
+    return contact_options(held, GetParam().friction);
+  }
+  /// The same against an analytic field (on_analytic_field()).
+  contact::ContactOptions analytic_options(contact::HapticObject held) const {
+    return contact_options(held, on_analytic_field(GetParam().friction));
+  }
+};
 
 /// The coupling options of every case: k_VC, saturation to F_VC,max with the torque plateau
 /// F_VC,max × object_radius (§4.9), the thesis's α = 0.5 and speed limits (§4.6, §4.8), the

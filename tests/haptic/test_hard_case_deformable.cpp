@@ -70,17 +70,7 @@ struct DeformableBeam {
 /// Each case runs frictionless, as in the thesis, and with friction μ_s = 0.5, μ_k = 0.4
 /// (issue 20; rubbings()); friction's tangential reaction enters the reduced forces too, and
 /// every case must stay as stable with it.
-class HardCases : public ::testing::TestWithParam<Rubbing> {
- protected:
-  /// The cases' contact options (contact_options()) with this run's friction.
-  contact::ContactOptions options(contact::HapticObject held) const {
-    return contact_options(held, GetParam().friction);
-  }
-  /// The same against an analytic field (on_analytic_field()).
-  contact::ContactOptions analytic_options(contact::HapticObject held) const {
-    return contact_options(held, on_analytic_field(GetParam().friction));
-  }
-};
+class HardCases : public RubbingCases {};
 
 INSTANTIATE_TEST_SUITE_P(, HardCases, ::testing::ValuesIn(rubbings()), RubbingName());
 

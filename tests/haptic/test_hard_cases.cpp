@@ -31,18 +31,7 @@ using contact::HapticObject;
 /// energy gained once the hand holds still. What only frictionless contact does (a peg sliding
 /// freely along its shaft, a box snapping in its plane, a ball turning freely in its socket) is
 /// checked without friction only.
-class HapticHardCases : public ::testing::TestWithParam<Rubbing> {
- protected:
-  bool frictionless() const { return !GetParam().friction.enabled(); }
-  /// The cases' contact options (contact_options()) with this run's friction.
-  contact::ContactOptions options(HapticObject held) const {
-    return contact_options(held, GetParam().friction);
-  }
-  /// The same against an analytic field (on_analytic_field()).
-  contact::ContactOptions analytic_options(HapticObject held) const {
-    return contact_options(held, on_analytic_field(GetParam().friction));
-  }
-};
+class HapticHardCases : public RubbingCases {};
 
 INSTANTIATE_TEST_SUITE_P(, HapticHardCases, ::testing::ValuesIn(rubbings()), RubbingName());
 
