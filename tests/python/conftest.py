@@ -1,0 +1,39 @@
+"""Shared fixtures of the kilohertz Python tests: data paths and the C++ reference program."""
+
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+
+
+def _environment_path(name):
+    value = os.environ.get(name)
+    if not value:
+        pytest.fail(f"{name} is not set: run these tests through ctest (tests/python/CMakeLists.txt)")
+    return Path(value)
+
+
+@pytest.fixture(scope="session")
+def cgal_meshes():
+    """CGAL's demo meshes (libcgal-demo), extracted by the build."""
+    return _environment_path("KHZ_CGAL_MESH_DIR")
+
+
+@pytest.fixture(scope="session")
+def test_data():
+    """The project's committed test files (tests/data)."""
+    return _environment_path("KHZ_TEST_DATA_DIR")
+
+
+@pytest.fixture(scope="session")
+def reference():
+    """Runs khz_python_reference (tests/python/reference.cpp) and returns its standard output."""
+    program = _environment_path("KHZ_PYTHON_REFERENCE")
+
+    def run(*args):
+        result = subprocess.run([str(program), *map(str, args)], capture_output=True, text=True)
+        assert result.returncode == 0, result.stderr
+        return result.stdout
+
+    return run
