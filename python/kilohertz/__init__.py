@@ -3,7 +3,9 @@
 The submodules mirror the C++ libraries:
 
 - ``kilohertz.reduced``: meshes and mesh files, reports and repair (``khz::reduced``);
-- ``kilohertz.contact``: distance fields and their point queries (``khz::contact``).
+- ``kilohertz.contact``: distance fields and their point queries (``khz::contact``);
+- ``kilohertz.haptic``: devices, including ones written in Python (``khz::haptic``);
+- ``kilohertz.scene``: scene files, their preparation and runtime (``khz::scene``).
 
 Arrays go in and out as NumPy arrays, in metres and seconds. Every set-up failure raises a
 subclass of ``kilohertz.Error`` carrying the library's message (file:line for a malformed file).
@@ -23,12 +25,18 @@ from ._core import (
     SolverError,
     __version__,
     contact,
+    haptic,
     reduced,
+    scene,
 )
 
-# `import kilohertz.reduced` and `from kilohertz.contact import ...` find the compiled submodules.
-for _name in ("reduced", "contact"):
+# `import kilohertz.reduced` and `from kilohertz.contact import ...` find the compiled submodules
+# (named kilohertz.<name> by _core), and the errors print as kilohertz.Error, where users import
+# them from.
+for _name in ("reduced", "contact", "haptic", "scene"):
     _sys.modules[f"{__name__}.{_name}"] = getattr(_core, _name)
+for _error in (Error, IoError, ParseError, MeshError, SolverError, Cancelled):
+    _error.__module__ = __name__
 
 __all__ = [
     "Cancelled",
@@ -38,5 +46,7 @@ __all__ = [
     "ParseError",
     "SolverError",
     "contact",
+    "haptic",
     "reduced",
+    "scene",
 ]

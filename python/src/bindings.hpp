@@ -18,4 +18,12 @@ void bind_reduced_meshes(py::module_& reduced);
 /// kilohertz.contact: GridGeometry, DistanceGrid, distance fields of meshes, field files.
 void bind_contact_fields(py::module_& contact);
 
+/// kilohertz.haptic: DeviceCapabilities, DeviceState, Device (subclassable in Python),
+/// TrajectoryDevice, SimulatedOperator.
+void bind_haptic_devices(py::module_& haptic);
+
+/// kilohertz.scene: read_scene(), prepare_scene(), SceneRuntime, make_device(), and the scene
+/// exceptions as subclasses of `error` (kilohertz.Error).
+void bind_scene(py::module_& scene, const py::handle& error);
+
 }  // namespace khz::python

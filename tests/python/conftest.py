@@ -27,6 +27,20 @@ def test_data():
 
 
 @pytest.fixture(scope="session")
+def scene_examples():
+    """The bundled scenes (examples/scenes)."""
+    return _environment_path("KHZ_SCENE_EXAMPLES_DIR")
+
+
+@pytest.fixture(scope="session")
+def product_cache():
+    """A product cache shared by the tests' scene preparations, inside the build tree."""
+    path = _environment_path("KHZ_PYTHON_SCRATCH") / "cache"
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+@pytest.fixture(scope="session")
 def reference():
     """Runs khz_python_reference (tests/python/reference.cpp) and returns its standard output."""
     program = _environment_path("KHZ_PYTHON_REFERENCE")

@@ -9,12 +9,19 @@
 //       the signed field of MESH at CELLS cells, written to OUT.khzsdf, and its
 //       distance_and_gradient() at POINTS (raw float64, N×3 rows) to OUT.distance (N float64)
 //       and OUT.gradient (N×3 float64)
+//   khz_python_reference scene SCENE CACHE CYCLES OUT
+//       SCENE prepared with the cache directory CACHE and run with its own devices for CYCLES
+//       cycles in simulated time (as kilohertz.scene.SceneRuntime.run() does); per cycle of hand
+//       0 its contact force and simulation position, 6 float64, written to OUT
 
 #include <khz/contact/field/mesh_distance_field.hpp>
 #include <khz/contact/io/distance_field_file.hpp>
 #include <khz/reduced/io/mesh_file.hpp>
 #include <khz/reduced/mesh/mesh_repair.hpp>
 #include <khz/reduced/mesh/mesh_report.hpp>
+#include <khz/scene/prepare_scene.hpp>
+#include <khz/scene/read_scene.hpp>
+#include <khz/scene/scene_runtime.hpp>
 
 #include <Eigen/Core>
 
@@ -63,6 +70,27 @@ int field(const std::string& mesh_file, int cells, const std::string& points_fil
   return 0;
 }
 
+int run_scene(const std::string& scene_file, const std::string& cache_directory, int cycles,
+              const std::string& out) {
+  khz::scene::ProductCache cache(cache_directory);
+  const auto prepared = khz::scene::prepare_scene(khz::scene::read_scene(scene_file), cache);
+  khz::scene::SceneRuntime runtime(prepared);
+  runtime.open_devices();
+  auto& world = runtime.world();
+  const double period = 1.0 / prepared.description.loop.rate_hz;
+  std::vector<double> rows;
+  for (int i = 0; i < cycles; ++i) {
+    const double now = i * period;
+    const auto& record = world.cycle(now, now + period, [now] { return now; })[0];
+    rows.insert(rows.end(), record.contact.force.data(), record.contact.force.data() + 3);
+    rows.insert(rows.end(), record.simulation.position.data(),
+                record.simulation.position.data() + 3);
+  }
+  runtime.close_devices();
+  write_doubles(out, rows);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
@@ -76,6 +104,9 @@ int main(int argc, char** argv) try {
     khz::reduced::repair_mesh(mesh, {.weld_tolerance = std::stod(args[2])});
     khz::reduced::write_triangle_mesh(args[3], mesh);
     return 0;
+  }
+  if (args.size() == 5 && args[0] == "scene") {
+    return run_scene(args[1], args[2], std::stoi(args[3]), args[4]);
   }
   if (args.size() == 5 && args[0] == "field")
     return field(args[1], std::stoi(args[2]), args[3], args[4]);
