@@ -10,6 +10,8 @@
 
 namespace khz::python {
 
+using namespace pybind11::literals;
+
 namespace {
 
 std::string shape_of(const py::array& array) {
@@ -104,6 +106,58 @@ Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> index_matrix
     indices.data()[i] = static_cast<int>(values[i]);
   }
   return indices;
+}
+
+Eigen::Vector3d vector3_in(const py::handle& input, std::string_view what) {
+  const PointRows point = point_rows(input, what);
+  if (!point.single) throw py::value_error(std::string(what) + ": expected shape (3,)");
+  return point.rows().row(0).transpose();
+}
+
+Eigen::VectorXd real_vector(const py::handle& input, std::string_view what, Eigen::Index size) {
+  const auto array = numeric_array(input, what, "fiu", "a vector of real numbers");
+  const bool flat = array.ndim() == 1 && (size < 0 || array.shape(0) == size);
+  const bool rows =
+      array.ndim() == 2 && array.shape(1) == 3 && (size < 0 || array.shape(0) * 3 == size);
+  if (!flat && !rows) {
+    const std::string n = size < 0 ? std::string("n") : std::to_string(size);
+    throw py::value_error(
+        std::string(what) + ": expected shape (" + n + ",)" +
+        (size < 0 || size % 3 == 0
+             ? " or (" + (size < 0 ? std::string("n") : std::to_string(size / 3)) + ", 3)"
+             : std::string()) +
+        ", got " + shape_of(array));
+  }
+  const auto contiguous = py::array_t<double, py::array::c_style>::ensure(array);
+  const auto count = static_cast<Eigen::Index>(contiguous.size());
+  check_finite(contiguous.data(), count, 1, what);
+  return Eigen::Map<const Eigen::VectorXd>(contiguous.data(), count);
+}
+
+std::vector<int> index_list(const py::handle& input, std::string_view what) {
+  const auto column = index_matrix(py::array::ensure(input).attr("reshape")(-1, 1), what, 1);
+  return {column.data(), column.data() + column.size()};
+}
+
+py::object sparse_out(const Eigen::SparseMatrix<double, Eigen::ColMajor, int>& matrix) {
+  Eigen::SparseMatrix<double, Eigen::ColMajor, int> compressed = matrix;
+  compressed.makeCompressed();
+  const auto nonzeros = static_cast<py::ssize_t>(compressed.nonZeros());
+  py::array_t<double> data(nonzeros, compressed.valuePtr());
+  py::array_t<int> indices(nonzeros, compressed.innerIndexPtr());
+  py::array_t<int> indptr(compressed.cols() + 1, compressed.outerIndexPtr());
+  const py::tuple shape = py::make_tuple(compressed.rows(), compressed.cols());
+  try {
+    const py::module_ sparse = py::module_::import("scipy.sparse");
+    return sparse.attr("csc_matrix")(py::make_tuple(data, indices, indptr), "shape"_a = shape);
+  } catch (py::error_already_set& error) {
+    if (!error.matches(PyExc_ImportError)) throw;
+    return py::make_tuple(data, indices, indptr, shape);
+  }
+}
+
+py::array vector_out(const Eigen::Ref<const Eigen::VectorXd>& vector) {
+  return py::array_t<double>(vector.size(), vector.data());
 }
 
 }  // namespace khz::python

@@ -7,8 +7,10 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include <string_view>
+#include <vector>
 
 namespace khz::python {
 
@@ -42,6 +44,23 @@ Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> real_matr
 ///         int32.
 Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> index_matrix(
     const py::handle& input, std::string_view what, Eigen::Index columns);
+
+/// One 3-vector (m, N, ...) from a (3,) array-like; checks as point_rows().
+Eigen::Vector3d vector3_in(const py::handle& input, std::string_view what);
+
+/// `input` as a float64 vector of `size` entries (size = -1: any), given as (size,) or, for a
+/// vector of per-vertex 3-vectors, as (size / 3, 3); checks as point_rows().
+Eigen::VectorXd real_vector(const py::handle& input, std::string_view what, Eigen::Index size);
+
+/// `input` as a list of int (e.g. vertex indices), from any 1-D integer array-like.
+std::vector<int> index_list(const py::handle& input, std::string_view what);
+
+/// A sparse matrix as scipy.sparse.csc_matrix when SciPy is importable, else the tuple (data,
+/// indices, indptr, shape) of its compressed-column arrays (copies).
+py::object sparse_out(const Eigen::SparseMatrix<double, Eigen::ColMajor, int>& matrix);
+
+/// A NumPy array holding a copy of the vector `vector`.
+py::array vector_out(const Eigen::Ref<const Eigen::VectorXd>& vector);
 
 /// A NumPy view of the row-major matrix `matrix`, kept alive by `owner` (the Python object that
 /// holds it); read-only unless `writeable`.

@@ -15,6 +15,13 @@ void bind_errors(py::module_& module);
 /// kilohertz.reduced: TriangleMesh, VolumeMesh, mesh files, analyze_mesh(), repair.
 void bind_reduced_meshes(py::module_& reduced);
 
+/// kilohertz.reduced: box meshes, voxelize(), tetrahedralize(), Material, FemModel, FullNewmark.
+void bind_reduced_fem(py::module_& reduced);
+
+/// kilohertz.reduced: Basis and its generators and files, ReducedModel, ReducedIntegrator,
+/// reconstruction.
+void bind_reduced_models(py::module_& reduced);
+
 /// kilohertz.contact: GridGeometry, DistanceGrid, distance fields of meshes, field files.
 void bind_contact_fields(py::module_& contact);
 

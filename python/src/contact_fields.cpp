@@ -25,22 +25,12 @@ namespace {
 using contact::DistanceGrid;
 using contact::GridGeometry;
 
-Eigen::Vector3d vector3_from(const py::handle& input, std::string_view what) {
-  const PointRows point = point_rows(input, what);
-  if (!point.single) throw py::value_error(std::string(what) + ": expected shape (3,)");
-  return point.rows().row(0).transpose();
-}
-
-py::array vector3_to_numpy(const Eigen::Vector3d& vector) {
-  return py::array_t<double>(3, vector.data());
-}
-
 void bind_grid_geometry(py::module_& module) {
   py::class_<GridGeometry>(module, "GridGeometry", R"(A cube of cells³ cells of edge `spacing` (m)
 with its lowest corner at `origin` (m): (cells + 1)³ nodes, node (i, j, k) at
 origin + spacing·(i, j, k) (khz::contact::GridGeometry).)")
       .def(py::init([](const py::handle& origin, double spacing, int cells) {
-             GridGeometry geometry{vector3_from(origin, "origin"), spacing, cells};
+             GridGeometry geometry{vector3_in(origin, "origin"), spacing, cells};
              geometry.validate();
              return geometry;
            }),
@@ -57,8 +47,7 @@ origin + spacing·(i, j, k) (khz::contact::GridGeometry).)")
           py::arg("box"), py::arg("expansion") = 1.5, py::arg("cells") = 128,
           R"(The cube centred on box ((2, 3): lowest and highest corner, m) whose edge is
 `expansion` times the box's longest side, in `cells` cells per axis (thesis §3.11).)")
-      .def_property_readonly("origin",
-                             [](const GridGeometry& g) { return vector3_to_numpy(g.origin); })
+      .def_property_readonly("origin", [](const GridGeometry& g) { return vector_out(g.origin); })
       .def_readonly("spacing", &GridGeometry::spacing, "h (m).")
       .def_readonly("cells", &GridGeometry::cells, "Cells per axis.")
       .def_property_readonly("nodes_per_axis", &GridGeometry::nodes_per_axis)

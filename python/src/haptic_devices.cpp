@@ -104,12 +104,6 @@ namespace {
 using haptic::DeviceCapabilities;
 using haptic::DeviceState;
 
-Eigen::Vector3d vector3(const py::handle& input, std::string_view what) {
-  const PointRows point = point_rows(input, what);
-  if (!point.single) throw py::value_error(std::string(what) + ": expected shape (3,)");
-  return point.rows().row(0).transpose();
-}
-
 /// A unit quaternion from (w, x, y, z); normalised, refused when far from unit length.
 Eigen::Quaterniond quaternion(const py::handle& input, std::string_view what) {
   const auto wxyz = real_matrix(py::array::ensure(input).attr("reshape")(1, -1), what, 1, 4);
@@ -120,8 +114,6 @@ Eigen::Quaterniond quaternion(const py::handle& input, std::string_view what) {
   }
   return q.normalized();
 }
-
-py::array vector_out(const Eigen::Vector3d& v) { return py::array_t<double>(3, v.data()); }
 
 py::array quaternion_out(const Eigen::Quaterniond& q) {
   const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
@@ -142,8 +134,8 @@ display, in its own axes and SI units (khz::haptic::DeviceCapabilities).)")
              c.max_force = max_force;
              c.max_torque = max_torque;
              c.max_stiffness = max_stiffness;
-             c.workspace_min = vector3(workspace_min, "workspace_min");
-             c.workspace_max = vector3(workspace_max, "workspace_max");
+             c.workspace_min = vector3_in(workspace_min, "workspace_min");
+             c.workspace_max = vector3_in(workspace_max, "workspace_max");
              c.workspace_radius = workspace_radius;
              c.nominal_rate = nominal_rate;
              c.validate();
@@ -182,14 +174,14 @@ optional linear_velocity (m/s) and angular_velocity (rad/s) (None when not sense
                        const py::handle& linear_velocity, const py::handle& angular_velocity,
                        std::uint32_t buttons, double time) {
              DeviceState s;
-             s.pose.position = vector3(position, "position");
+             s.pose.position = vector3_in(position, "position");
              s.pose.orientation = quaternion(orientation, "orientation");
              if (!linear_velocity.is_none()) {
-               s.linear_velocity = vector3(linear_velocity, "linear_velocity");
+               s.linear_velocity = vector3_in(linear_velocity, "linear_velocity");
                s.has_linear_velocity = true;
              }
              if (!angular_velocity.is_none()) {
-               s.angular_velocity = vector3(angular_velocity, "angular_velocity");
+               s.angular_velocity = vector3_in(angular_velocity, "angular_velocity");
                s.has_angular_velocity = true;
              }
              s.buttons = buttons;
@@ -256,7 +248,7 @@ stops the run, which raises it once the devices are closed.)")
       .def(
           "write",
           [](haptic::Device& device, const py::handle& force, const py::handle& torque) {
-            return device.write({vector3(force, "force"), vector3(torque, "torque")});
+            return device.write({vector3_in(force, "force"), vector3_in(torque, "torque")});
           },
           py::arg("force"), py::arg("torque") = std::vector<double>(3, 0.0),
           "Renders force (3,) N and torque (3,) N·m until the next write; False if not taken.");

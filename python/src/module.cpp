@@ -20,6 +20,8 @@ PYBIND11_MODULE(_core, module) {
   auto reduced = submodule(
       "reduced", "Meshes, mesh files, reports and repair (the C++ library khz::reduced).");
   kp::bind_reduced_meshes(reduced);
+  kp::bind_reduced_fem(reduced);
+  kp::bind_reduced_models(reduced);
   auto contact = submodule(
       "contact", "Distance fields and their point queries (the C++ library khz::contact).");
   kp::bind_contact_fields(contact);

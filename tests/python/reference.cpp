@@ -9,6 +9,14 @@
 //       the signed field of MESH at CELLS cells, written to OUT.khzsdf, and its
 //       distance_and_gradient() at POINTS (raw float64, N×3 rows) to OUT.distance (N float64)
 //       and OUT.gradient (N×3 float64)
+//   khz_python_reference beam OUT
+//       the beam of test_reduced.py (box_hex_mesh 0.3 × 0.04 × 0.02 m in 15×2×2 cells, StVK
+//       1 MPa, ν = 0.4, 1000 kg/m³, clamped at x = 0): at u_j = 1e-3 sin(j) (written to OUT.at) its
+//       R(u) to OUT.R, K(u)'s compressed-column values to OUT.K and E(u) to OUT.E; its
+//       modal-derivative basis (4 modes, r = 8) to OUT.npy; the reduced model to OUT.khzmodel; 40
+//       reduced Newmark steps (Δt 2 ms, 10 Newton iterations, tolerance 1e-6) under 0.2 N down on
+//       the x = 0.3 m vertices, q after each to OUT.q; 5 full Newmark steps under the same load, u
+//       to OUT.u
 //   khz_python_reference scene SCENE CACHE CYCLES OUT
 //       SCENE prepared with the cache directory CACHE and run with its own devices for CYCLES
 //       cycles in simulated time (as kilohertz.scene.SceneRuntime.run() does); per cycle of hand
@@ -16,14 +24,25 @@
 
 #include <khz/contact/field/mesh_distance_field.hpp>
 #include <khz/contact/io/distance_field_file.hpp>
+#include <khz/reduced/basis/modal_derivative_basis.hpp>
+#include <khz/reduced/fem/fem_model.hpp>
+#include <khz/reduced/io/basis_export.hpp>
 #include <khz/reduced/io/mesh_file.hpp>
+#include <khz/reduced/io/reduced_model_file.hpp>
 #include <khz/reduced/mesh/mesh_repair.hpp>
 #include <khz/reduced/mesh/mesh_report.hpp>
+#include <khz/reduced/meshing/box_mesh.hpp>
+#include <khz/reduced/solvers/full_newmark.hpp>
+#include <khz/reduced/subspace/polynomial_forces.hpp>
+#include <khz/reduced/subspace/reduced_model.hpp>
+#include <khz/reduced/subspace/reduced_newmark.hpp>
 #include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/read_scene.hpp>
 #include <khz/scene/scene_runtime.hpp>
 
 #include <Eigen/Core>
+
+#include <cmath>
 
 #include <exception>
 #include <fstream>
@@ -70,6 +89,62 @@ int field(const std::string& mesh_file, int cells, const std::string& points_fil
   return 0;
 }
 
+int beam(const std::string& out) {
+  namespace kr = khz::reduced;
+  const kr::FemModel fem(kr::box_hex_mesh(Eigen::Vector3d::Zero(), {0.3, 0.04, 0.02}, {15, 2, 2}),
+                         {kr::Material::stvk(1e6, 0.4, 1000.0)});
+  const auto& x = fem.mesh().vertices;
+  std::vector<int> clamped, tip;
+  for (Eigen::Index v = 0; v < x.rows(); ++v) {
+    if (x(v, 0) == 0.0) clamped.push_back(static_cast<int>(v));
+    if (std::abs(x(v, 0) - 0.3) < 1e-12) tip.push_back(static_cast<int>(v));
+  }
+  Eigen::VectorXd u(fem.num_dofs());
+  for (Eigen::Index j = 0; j < u.size(); ++j) u(j) = 1e-3 * std::sin(static_cast<double>(j));
+  write_doubles(out + ".at", {u.data(), static_cast<std::size_t>(u.size())});
+  Eigen::VectorXd forces;
+  fem.internal_forces(u, forces);
+  write_doubles(out + ".R", {forces.data(), static_cast<std::size_t>(forces.size())});
+  kr::SparseMatrix stiffness = fem.stiffness_pattern();
+  fem.tangent_stiffness(u, stiffness);
+  write_doubles(out + ".K", {stiffness.valuePtr(), static_cast<std::size_t>(stiffness.nonZeros())});
+  const double energy = fem.strain_energy(u);
+  write_doubles(out + ".E", {&energy, 1});
+
+  kr::ModalDerivativeBasisOptions basis_options;
+  basis_options.modes.num_modes = 4;
+  basis_options.basis_size = 8;
+  const auto model =
+      kr::ReducedModel::precompute(fem, kr::modal_derivative_basis(fem, clamped, basis_options));
+  kr::write_basis_npy(out + ".npy", model.basis());
+  kr::write_reduced_model(out + ".khzmodel", model, fem.mesh());
+
+  Eigen::VectorXd load = Eigen::VectorXd::Zero(fem.num_dofs());
+  for (int v : tip) load(3 * v + 2) = -0.2 / static_cast<double>(tip.size());
+  auto options = model.defaults().newmark_options();
+  options.newmark.time_step = 2e-3;
+  options.max_newton_iterations = 10;
+  options.tolerance = 1e-6;
+  kr::PolynomialForces polynomial(model.energy_polynomial());
+  const auto integrator = kr::make_reduced_newmark(polynomial, model.mass(), options);
+  const Eigen::VectorXd reduced_load = model.basis().vectors.transpose() * load;
+  std::vector<double> q;
+  for (int step = 0; step < 40; ++step) {
+    integrator->step(reduced_load);
+    q.insert(q.end(), integrator->coordinates().data(),
+             integrator->coordinates().data() + integrator->coordinates().size());
+  }
+  write_doubles(out + ".q", q);
+  kr::FullNewmarkOptions full_options;
+  full_options.newmark.time_step = 2e-3;
+  full_options.tolerance = 1e-6;
+  kr::FullNewmark full(fem, clamped, full_options);
+  for (int step = 0; step < 5; ++step) full.step(load);
+  write_doubles(out + ".u",
+                {full.displacement().data(), static_cast<std::size_t>(full.displacement().size())});
+  return 0;
+}
+
 int run_scene(const std::string& scene_file, const std::string& cache_directory, int cycles,
               const std::string& out) {
   khz::scene::ProductCache cache(cache_directory);
@@ -105,6 +180,7 @@ int main(int argc, char** argv) try {
     khz::reduced::write_triangle_mesh(args[3], mesh);
     return 0;
   }
+  if (args.size() == 2 && args[0] == "beam") return beam(args[1]);
   if (args.size() == 5 && args[0] == "scene") {
     return run_scene(args[1], args[2], std::stoi(args[3]), args[4]);
   }
