@@ -25,6 +25,9 @@ void bind_reduced_models(py::module_& reduced);
 /// kilohertz.contact: GridGeometry, DistanceGrid, distance fields of meshes, field files.
 void bind_contact_fields(py::module_& contact);
 
+/// kilohertz.contact: pointshells, point trees, ContactOptions, ContactQuery.
+void bind_contact_query(py::module_& contact);
+
 /// kilohertz.haptic: DeviceCapabilities, DeviceState, Device (subclassable in Python),
 /// TrajectoryDevice, SimulatedOperator.
 void bind_haptic_devices(py::module_& haptic);

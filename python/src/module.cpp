@@ -23,8 +23,10 @@ PYBIND11_MODULE(_core, module) {
   kp::bind_reduced_fem(reduced);
   kp::bind_reduced_models(reduced);
   auto contact = submodule(
-      "contact", "Distance fields and their point queries (the C++ library khz::contact).");
+      "contact",
+      "Distance fields, pointshells and the contact query (the C++ library khz::contact).");
   kp::bind_contact_fields(contact);
+  kp::bind_contact_query(contact);
   auto haptic = submodule(
       "haptic",
       "Devices, virtual coupling and the multi-body World (the C++ library khz::haptic).");

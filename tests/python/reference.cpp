@@ -9,6 +9,10 @@
 //       the signed field of MESH at CELLS cells, written to OUT.khzsdf, and its
 //       distance_and_gradient() at POINTS (raw float64, N×3 rows) to OUT.distance (N float64)
 //       and OUT.gradient (N×3 float64)
+//   khz_python_reference query FIELD_MESH CELLS SHELL_MESH POSES OUT
+//       the vertex pointshell of SHELL_MESH queried with default ContactOptions against the
+//       signed field of FIELD_MESH at CELLS cells, once per pose of POSES (raw float64, 4×4
+//       row-major each), about the pose's origin: force and torque, 6 float64 per pose, to OUT
 //   khz_python_reference beam OUT
 //       the beam of test_reduced.py (box_hex_mesh 0.3 × 0.04 × 0.02 m in 15×2×2 cells, StVK
 //       1 MPa, ν = 0.4, 1000 kg/m³, clamped at x = 0): at u_j = 1e-3 sin(j) (written to OUT.at) its
@@ -24,6 +28,9 @@
 
 #include <khz/contact/field/mesh_distance_field.hpp>
 #include <khz/contact/io/distance_field_file.hpp>
+#include <khz/contact/pointshell/pointshell_sampling.hpp>
+#include <khz/contact/query/contact_query.hpp>
+#include <khz/contact/tree/point_tree.hpp>
 #include <khz/reduced/basis/modal_derivative_basis.hpp>
 #include <khz/reduced/fem/fem_model.hpp>
 #include <khz/reduced/io/basis_export.hpp>
@@ -86,6 +93,31 @@ int field(const std::string& mesh_file, int cells, const std::string& points_fil
   }
   write_doubles(out + ".distance", distances);
   write_doubles(out + ".gradient", gradients);
+  return 0;
+}
+
+int query(const std::string& field_mesh, int cells, const std::string& shell_mesh,
+          const std::string& poses_file, const std::string& out) {
+  namespace kc = khz::contact;
+  kc::DistanceFieldOptions options;
+  options.cells = cells;
+  const auto field =
+      kc::signed_distance_field(khz::reduced::read_triangle_mesh(field_mesh), options);
+  const kc::PointTree tree(kc::vertex_pointshell(khz::reduced::read_triangle_mesh(shell_mesh)));
+  kc::ContactWorkspace workspace(tree, kc::ContactOptions{});
+  const std::vector<double> poses = read_doubles(poses_file);
+  std::vector<double> rows;
+  for (std::size_t i = 0; i + 15 < poses.size(); i += 16) {
+    const Eigen::Matrix<double, 4, 4, Eigen::RowMajor> m(poses.data() + i);
+    kc::ContactFrames frames;
+    frames.pointshell.matrix() = m;
+    frames.grasp_point = frames.pointshell.translation();
+    kc::query_contact(tree, field, frames, workspace);
+    const auto& r = workspace.result();
+    rows.insert(rows.end(), r.force.data(), r.force.data() + 3);
+    rows.insert(rows.end(), r.torque.data(), r.torque.data() + 3);
+  }
+  write_doubles(out, rows);
   return 0;
 }
 
@@ -181,6 +213,9 @@ int main(int argc, char** argv) try {
     return 0;
   }
   if (args.size() == 2 && args[0] == "beam") return beam(args[1]);
+  if (args.size() == 6 && args[0] == "query") {
+    return query(args[1], std::stoi(args[2]), args[3], args[4], args[5]);
+  }
   if (args.size() == 5 && args[0] == "scene") {
     return run_scene(args[1], args[2], std::stoi(args[3]), args[4]);
   }
