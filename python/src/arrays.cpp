@@ -114,6 +114,21 @@ Eigen::Vector3d vector3_in(const py::handle& input, std::string_view what) {
   return point.rows().row(0).transpose();
 }
 
+Eigen::Quaterniond quaternion_in(const py::handle& input, std::string_view what) {
+  const auto wxyz = real_matrix(py::array::ensure(input).attr("reshape")(1, -1), what, 1, 4);
+  const Eigen::Quaterniond q(wxyz(0, 0), wxyz(0, 1), wxyz(0, 2), wxyz(0, 3));
+  if (std::abs(q.norm() - 1.0) > 1e-3) {
+    throw py::value_error(std::string(what) + ": expected a unit quaternion (w, x, y, z), norm " +
+                          std::to_string(q.norm()));
+  }
+  return q.normalized();
+}
+
+py::array quaternion_out(const Eigen::Quaterniond& q) {
+  const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
+  return py::array_t<double>(4, wxyz);
+}
+
 Eigen::VectorXd real_vector(const py::handle& input, std::string_view what, Eigen::Index size) {
   const auto array = numeric_array(input, what, "fiu", "a vector of real numbers");
   const bool flat = array.ndim() == 1 && (size < 0 || array.shape(0) == size);

@@ -7,6 +7,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 
 #include <string_view>
@@ -47,6 +48,13 @@ Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> index_matrix
 
 /// One 3-vector (m, N, ...) from a (3,) array-like; checks as point_rows().
 Eigen::Vector3d vector3_in(const py::handle& input, std::string_view what);
+
+/// A unit quaternion from a (4,) array-like (w, x, y, z), normalised.
+/// @throws ValueError, naming `what`, for another shape or a norm further than 1e-3 from 1.
+Eigen::Quaterniond quaternion_in(const py::handle& input, std::string_view what);
+
+/// A quaternion as a (4,) array (w, x, y, z).
+py::array quaternion_out(const Eigen::Quaterniond& q);
 
 /// `input` as a float64 vector of `size` entries (size = -1: any), given as (size,) or, for a
 /// vector of per-vertex 3-vectors, as (size / 3, 3); checks as point_rows().

@@ -32,6 +32,9 @@ void bind_contact_query(py::module_& contact);
 /// TrajectoryDevice, SimulatedOperator.
 void bind_haptic_devices(py::module_& haptic);
 
+/// kilohertz.haptic: CouplingOptions, VirtualCoupling.
+void bind_haptic_coupling(py::module_& haptic);
+
 /// kilohertz.scene: read_scene(), prepare_scene(), SceneRuntime, make_device(), and the scene
 /// exceptions as subclasses of `error` (kilohertz.Error).
 void bind_scene(py::module_& scene, const py::handle& error);

@@ -69,10 +69,24 @@ in nested levels, coarsest first (thesis §3.9; khz::contact::Pointshell).)")
           "(N, 3) unit inward normals.")
       .def_readonly("level_ends", &Pointshell::level_ends)
       .def_property_readonly("size", &Pointshell::size)
-      .def("__repr__", [](const Pointshell& p) {
-        return "Pointshell(" + std::to_string(p.size()) + " points, " +
-               std::to_string(p.num_levels()) + " levels)";
-      });
+      .def("__repr__",
+           [](const Pointshell& p) {
+             return "Pointshell(" + std::to_string(p.size()) + " points, " +
+                    std::to_string(p.num_levels()) + " levels)";
+           })
+      .def(py::pickle(
+          [](const Pointshell& p) {
+            return py::make_tuple(copy_of(p.points), copy_of(p.normals), p.level_ends);
+          },
+          [](const py::tuple& state) {
+            if (state.size() != 3) throw py::value_error("Pointshell: bad pickle state");
+            Pointshell p;
+            p.points = point_rows(state[0], "points").rows();
+            p.normals = point_rows(state[1], "normals").rows();
+            p.level_ends = state[2].cast<std::vector<Eigen::Index>>();
+            contact::validate(p);
+            return p;
+          }));
   module.def(
       "repulsion_pointshell",
       [](const reduced::TriangleMesh& mesh, const py::object& field, int cells,

@@ -104,22 +104,6 @@ namespace {
 using haptic::DeviceCapabilities;
 using haptic::DeviceState;
 
-/// A unit quaternion from (w, x, y, z); normalised, refused when far from unit length.
-Eigen::Quaterniond quaternion(const py::handle& input, std::string_view what) {
-  const auto wxyz = real_matrix(py::array::ensure(input).attr("reshape")(1, -1), what, 1, 4);
-  const Eigen::Quaterniond q(wxyz(0, 0), wxyz(0, 1), wxyz(0, 2), wxyz(0, 3));
-  if (std::abs(q.norm() - 1.0) > 1e-3) {
-    throw py::value_error(std::string(what) + ": expected a unit quaternion (w, x, y, z), norm " +
-                          std::to_string(q.norm()));
-  }
-  return q.normalized();
-}
-
-py::array quaternion_out(const Eigen::Quaterniond& q) {
-  const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
-  return py::array_t<double>(4, wxyz);
-}
-
 void bind_capabilities(py::module_& module) {
   py::class_<DeviceCapabilities>(module, "DeviceCapabilities", R"(What a device can sense and
 display, in its own axes and SI units (khz::haptic::DeviceCapabilities).)")
@@ -175,7 +159,7 @@ optional linear_velocity (m/s) and angular_velocity (rad/s) (None when not sense
                        std::uint32_t buttons, double time) {
              DeviceState s;
              s.pose.position = vector3_in(position, "position");
-             s.pose.orientation = quaternion(orientation, "orientation");
+             s.pose.orientation = quaternion_in(orientation, "orientation");
              if (!linear_velocity.is_none()) {
                s.linear_velocity = vector3_in(linear_velocity, "linear_velocity");
                s.has_linear_velocity = true;

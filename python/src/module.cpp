@@ -31,6 +31,7 @@ PYBIND11_MODULE(_core, module) {
       "haptic",
       "Devices, virtual coupling and the multi-body World (the C++ library khz::haptic).");
   kp::bind_haptic_devices(haptic);
+  kp::bind_haptic_coupling(haptic);
   auto scene = submodule(
       "scene", "Scene files, their preparation and their runtime (the C++ library khz::scene).");
   kp::bind_scene(scene, module.attr("Error"));

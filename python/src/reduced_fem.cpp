@@ -104,6 +104,22 @@ or a general 6×6 elasticity in Voigt order, with a density (khz::reduced::Mater
                                return copy_of(c);
                              })
       .def_property_readonly("density", &Material::density, "kg/m³.")
+      .def(py::pickle(
+          [](const Material& m) {
+            const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> c = m.elasticity();
+            return py::make_tuple(m.is_stvk(), m.lame().lambda, m.lame().mu, copy_of(c),
+                                  m.density());
+          },
+          [](const py::tuple& state) {
+            if (state.size() != 5) throw py::value_error("Material: bad pickle state");
+            if (state[0].cast<bool>()) {
+              return Material::stvk_lame(
+                  {.lambda = state[1].cast<double>(), .mu = state[2].cast<double>()},
+                  state[4].cast<double>());
+            }
+            return Material::general(real_matrix(state[3], "elasticity", 6, 6),
+                                     state[4].cast<double>());
+          }))
       .def_property_readonly("is_stvk", &Material::is_stvk)
       .def_property_readonly(
           "lame", [](const Material& m) { return py::make_tuple(m.lame().lambda, m.lame().mu); },

@@ -97,6 +97,20 @@ index out of range.)")
           }));
 }
 
+VolumeMesh make_volume_mesh(const py::handle& vertices, const py::handle& elements,
+                            reduced::ElementType type, const py::handle& groups) {
+  VolumeMesh mesh;
+  mesh.element_type = type;
+  mesh.vertices = point_rows(vertices, "vertices").rows();
+  mesh.elements = index_matrix(elements, "elements", nodes_per_element(type));
+  if (!groups.is_none() && py::len(groups) > 0) {
+    mesh.element_groups =
+        index_matrix(py::array::ensure(groups).attr("reshape")(-1, 1), "element_groups", 1);
+  }
+  reduced::validate(mesh);
+  return mesh;
+}
+
 void bind_volume_mesh(py::module_& module) {
   py::enum_<reduced::ElementType>(module, "ElementType",
                                   "Element kind of a VolumeMesh; the value is nodes per element.")
@@ -105,20 +119,7 @@ void bind_volume_mesh(py::module_& module) {
   py::class_<VolumeMesh>(module, "VolumeMesh", R"(A volumetric mesh of one element type
 (khz::reduced::VolumeMesh): node positions (V, 3) m, elements (E, 4) or (E, 8) node indices in
 VTK/Gmsh order, optional element_groups (E,) region ids. Array attributes are views.)")
-      .def(py::init([](const py::handle& vertices, const py::handle& elements,
-                       reduced::ElementType type, const py::handle& groups) {
-             VolumeMesh mesh;
-             mesh.element_type = type;
-             mesh.vertices = point_rows(vertices, "vertices").rows();
-             mesh.elements = index_matrix(elements, "elements", nodes_per_element(type));
-             if (!groups.is_none()) {
-               mesh.element_groups = index_matrix(py::array::ensure(groups).attr("reshape")(-1, 1),
-                                                  "element_groups", 1);
-             }
-             reduced::validate(mesh);
-             return mesh;
-           }),
-           py::arg("vertices"), py::arg("elements"),
+      .def(py::init(&make_volume_mesh), py::arg("vertices"), py::arg("elements"),
            py::arg("element_type") = reduced::ElementType::tetrahedron,
            py::arg("element_groups") = py::none())
       .def_readonly("element_type", &VolumeMesh::element_type)
@@ -138,12 +139,23 @@ VTK/Gmsh order, optional element_groups (E,) region ids. Array attributes are vi
           "(E,) int32 region ids, or (0,) when the mesh has none.")
       .def_property_readonly("num_vertices", &VolumeMesh::num_vertices)
       .def_property_readonly("num_elements", &VolumeMesh::num_elements)
-      .def("__repr__", [](const VolumeMesh& mesh) {
-        return "VolumeMesh(" + std::to_string(mesh.num_vertices()) + " nodes, " +
-               std::to_string(mesh.num_elements()) +
-               (mesh.element_type == reduced::ElementType::tetrahedron ? " tetrahedra)"
-                                                                       : " hexahedra)");
-      });
+      .def("__repr__",
+           [](const VolumeMesh& mesh) {
+             return "VolumeMesh(" + std::to_string(mesh.num_vertices()) + " nodes, " +
+                    std::to_string(mesh.num_elements()) +
+                    (mesh.element_type == reduced::ElementType::tetrahedron ? " tetrahedra)"
+                                                                            : " hexahedra)");
+           })
+      .def(py::pickle(
+          [](const VolumeMesh& mesh) {
+            return py::make_tuple(copy_of(mesh.vertices), copy_of(mesh.elements), mesh.element_type,
+                                  copy_of(mesh.element_groups));
+          },
+          [](const py::tuple& state) {
+            if (state.size() != 4) throw py::value_error("VolumeMesh: bad pickle state");
+            return make_volume_mesh(state[0], state[1], state[2].cast<reduced::ElementType>(),
+                                    state[3]);
+          }));
 }
 
 void bind_mesh_files(py::module_& module) {

@@ -3,11 +3,13 @@
 // stepped with reduced forces, and the reconstruction of positions and normals.
 
 #include <khz/reduced/basis/basis.hpp>
+#include <khz/reduced/basis/force_load.hpp>
 #include <khz/reduced/basis/linear_modes.hpp>
 #include <khz/reduced/basis/mass_pca.hpp>
 #include <khz/reduced/basis/modal_derivative_basis.hpp>
 #include <khz/reduced/basis/modal_derivatives.hpp>
 #include <khz/reduced/basis/simulation_data_basis.hpp>
+#include <khz/reduced/basis/sketch_basis.hpp>
 #include <khz/reduced/errors.hpp>
 #include <khz/reduced/fem/embedding.hpp>
 #include <khz/reduced/io/basis_export.hpp>
@@ -205,6 +207,53 @@ reduced to basis_size vectors by mass-PCA (metric 'mass' or 'lumped_mass').)");
       py::arg("metric") = "mass",
       R"(Mass-PCA of sample columns (3n, s) (thesis eq. 2.39–2.40): (basis (3n, r) M-orthonormal,
 singular values). mass: scipy.sparse or dense (3n, 3n); basis_size 0 keeps the numerical rank.)");
+  module.def(
+      "sketch_basis",
+      [](const FemModel& model, const py::handle& fixed_vertices, const py::handle& loads,
+         int basis_size, double force_separation, double deformation_separation,
+         const std::string& metric, bool skip_failed_solves, const py::object& progress) {
+        const auto fixed = index_list(fixed_vertices, "fixed_vertices");
+        const Eigen::Index vertices = model.num_dofs() / 3;
+        std::vector<reduced::ForceLoad> list;
+        if (py::isinstance<py::str>(loads) || py::hasattr(loads, "__fspath__")) {
+          list = reduced::read_force_loads(loads.cast<std::filesystem::path>(), vertices);
+        } else {
+          for (const py::handle load : loads) {
+            const auto pair = load.cast<py::tuple>();
+            if (pair.size() != 2) {
+              throw py::value_error("loads: each load is a (vertices, forces) pair");
+            }
+            const auto indices = index_list(pair[0], "load vertices");
+            const auto forces =
+                real_matrix(pair[1], "load forces", static_cast<Eigen::Index>(indices.size()), 3);
+            reduced::ForceLoad force_load;
+            for (std::size_t i = 0; i < indices.size(); ++i) {
+              force_load.forces.push_back(
+                  {indices[i], forces.row(static_cast<Eigen::Index>(i)).transpose()});
+            }
+            force_load.validate(vertices);
+            list.push_back(std::move(force_load));
+          }
+        }
+        reduced::SketchBasisOptions options;
+        options.basis_size = basis_size;
+        options.force_separation = force_separation;
+        options.deformation_separation = deformation_separation;
+        options.metric = metric_from(metric);
+        options.skip_failed_solves = skip_failed_solves;
+        options.progress = python_progress(progress);
+        const py::gil_scoped_release unlocked;
+        return reduced::sketch_basis(model, fixed, list, options);
+      },
+      py::arg("model"), py::arg("fixed_vertices"), py::arg("loads"), py::kw_only(),
+      py::arg("basis_size"), py::arg("force_separation") = 0.0,
+      py::arg("deformation_separation") = 0.0, py::arg("metric") = "mass",
+      py::arg("skip_failed_solves") = false, py::arg("progress") = py::none(),
+      R"(A basis from static deformations under example loads (thesis §2.8.2): loads is a load
+file (CSV load,vertex,fx,fy,fz) or a list of (vertices (k,), forces (k, 3) N) pairs; loads closer
+than force_separation (N) and deformations closer than deformation_separation (m·√kg) are
+thinned, then mass-PCA keeps basis_size vectors. A failed static solve raises SolverError naming
+the load, unless skip_failed_solves.)");
   module.def(
       "simulation_data_basis",
       [](const FemModel& model, const py::handle& fixed_vertices, const py::handle& snapshots,

@@ -94,3 +94,19 @@ def test_the_base_class_reads_nothing_until_a_subclass_defines_read():
     silent = Silent(DeviceCapabilities(max_force=1, max_torque=1, max_stiffness=1))
     silent.open()
     assert silent.is_open and silent.read() is None
+
+
+def test_virtual_coupling_follows_the_hand_within_its_speed_limit():
+    from kilohertz.haptic import CouplingOptions, VirtualCoupling
+
+    coupling = VirtualCoupling(CouplingOptions(stiffness=500, max_speed=0.1, period=1e-3))
+    step = coupling.step([0.01, 0.0, 0.0])  # 10 mm away, no contact
+    assert step["valid"] and step["speed_limited"]
+    assert step["simulation_position"][0] == pytest.approx(0.1 * 1e-3)
+    # What the device renders pulls the hand back toward the simulation object.
+    assert step["rendered_force"][0] < 0
+    for _ in range(200):
+        step = coupling.step([0.01, 0.0, 0.0])
+    np.testing.assert_allclose(coupling.simulation_position, [0.01, 0, 0], atol=1e-9)
+    with pytest.raises(kilohertz.Error, match="stiffness"):
+        CouplingOptions(stiffness=-1)

@@ -154,3 +154,38 @@ def test_bad_input_raises_clear_errors(beam, model):
         integrator.step(np.zeros(3))
     with pytest.raises(kilohertz.Cancelled):
         kr.linear_modes(fem, clamped, num_modes=4, progress=lambda *report: False)
+
+
+def test_a_sketch_basis_from_example_loads(beam):
+    fem, clamped, tip = beam
+    loads = [(tip, np.tile([0.0, 0.0, -f / len(tip)], (len(tip), 1))) for f in (0.1, 0.2, 0.4)]
+    loads.append((tip, np.tile([0.0, 0.1 / len(tip), 0.0], (len(tip), 1))))
+    basis = kr.sketch_basis(fem, clamped, loads, basis_size=3)
+    assert basis.size == 3 and basis.vectors.shape == (fem.num_dofs, 3)
+    mass = fem.mass_matrix()
+    np.testing.assert_allclose(basis.vectors.T @ (mass @ basis.vectors), np.eye(3), atol=1e-9)
+    with pytest.raises(kilohertz.Error):
+        kr.sketch_basis(fem, clamped, [(np.array([10_000]), [[0.0, 0.0, -1.0]])], basis_size=1)
+
+
+def test_volume_meshes_from_surfaces(cgal_meshes):
+    dino = kr.read_triangle_mesh(cgal_meshes / "dino.off")
+    voxels = kr.voxelize(dino, resolution=16, fill_interior=True)
+    assert voxels.element_type == kr.ElementType.hexahedron and voxels.num_elements > 100
+    tets = kr.tetrahedralize(kr.read_triangle_mesh(cgal_meshes / "cube.off"), cell_size=0.3)
+    assert tets.num_elements > 6
+    kr.FemModel(tets, kr.Material.stvk(1e6, 0.3, 1000.0))  # positively oriented, no slivers
+    with pytest.raises(kilohertz.MeshError):
+        kr.tetrahedralize(kr.read_triangle_mesh(cgal_meshes / "elephant-with-holes.off"))
+
+
+def test_value_objects_pickle_and_the_others_say_why_not(beam, model):
+    fem, _, _ = beam
+    mesh = pickle.loads(pickle.dumps(fem.mesh))
+    np.testing.assert_array_equal(mesh.elements, fem.mesh.elements)
+    material = pickle.loads(pickle.dumps(kr.Material.stvk(1e6, 0.4, 1000.0)))
+    assert material.lame == kr.Material.stvk(1e6, 0.4, 1000.0).lame
+    with pytest.raises(TypeError, match="ReducedModel: save it with write_reduced_model"):
+        pickle.dumps(model)
+    with pytest.raises(TypeError, match="FemModel: pickle its VolumeMesh"):
+        pickle.dumps(fem)
