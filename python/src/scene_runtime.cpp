@@ -90,6 +90,15 @@ void bind_description(py::module_& module) {
 directory, "cgal:NAME" meshes against cgal_mesh_dir (default: $KHZ_CGAL_MESH_DIR or the
 build's). Raises IoError, or SceneError naming the file, line or key path and what was expected.)");
   module.def(
+      "default_cgal_mesh_dir",
+      []() -> py::object {
+        const std::filesystem::path directory = scene::default_cgal_mesh_dir();
+        if (directory.empty()) return py::none();
+        return py::cast(directory);
+      },
+      "Where \"cgal:NAME\" meshes are: $KHZ_CGAL_MESH_DIR, else the directory this build "
+      "extracted CGAL's demo meshes to; None when neither is known.");
+  module.def(
       "parse_scene",
       [](const py::handle& scene, const std::string& source, const py::object& base_directory,
          const py::object& cgal_mesh_dir, bool check_files) {
