@@ -370,6 +370,18 @@ class Runtime {
     return out;
   }
 
+  std::vector<py::dict> cycle(double now, double period) {
+    const auto records = m_runtime->world().cycle(now, now + period, [now] { return now; });
+    std::vector<py::dict> hands;
+    for (const auto& record : records) {
+      HandColumns one;
+      one.add(record, 0.0);
+      hands.push_back(one.to_numpy());
+    }
+    for (PythonDevice* device : m_python) device->raise_error();
+    return hands;
+  }
+
  private:
   bool device_failed() const noexcept {
     for (const PythonDevice* device : m_python) {
@@ -450,6 +462,55 @@ observed_energy, points_in_contact, coupling_saturated, device_valid.)")
             return copy_of(r.runtime().deformed_vertices(object));
           },
           py::arg("object"), "Object i's surface vertices at its current q (V, 3), body frame.")
+      .def_property_readonly(
+          "body_names",
+          [](Runtime& r) {
+            std::vector<std::string> names;
+            for (const auto& body : r.runtime().world().bodies()) names.push_back(body.name);
+            return names;
+          },
+          "The World's bodies, the scene's objects in order.")
+      .def_property_readonly(
+          "pairs",
+          [](Runtime& r) {
+            std::vector<std::pair<int, int>> pairs;
+            for (const auto& pair : r.runtime().world().pairs()) {
+              pairs.emplace_back(pair.pointshell, pair.field);
+            }
+            return pairs;
+          },
+          "(pointshell body, field body) of every pair the World queries each cycle.")
+      .def(
+          "pair_result",
+          [](Runtime& r, int pair) {
+            const auto count = static_cast<int>(r.runtime().world().pairs().size());
+            if (pair < 0 || pair >= count) {
+              throw py::index_error("pair " + std::to_string(pair) +
+                                    " out of range: the world "
+                                    "queries " +
+                                    std::to_string(count));
+            }
+            return r.runtime().world().pair_result(pair);
+          },
+          py::arg("pair"), "The last cycle's contact query of pair i (a ContactResult copy).")
+      .def("cycle", &Runtime::cycle, py::arg("now"), py::arg("period") = 1e-3,
+           R"(One haptic cycle of every hand at simulated time `now` (s) with deadline now +
+period, for a loop driven from Python (open_devices() first, close_devices() after): one dict
+per hand as run() gives, each array of one row. Runs with the GIL held; an exception from a
+Python device is raised after the cycle.)")
+      .def(
+          "open_devices", [](Runtime& r) { r.runtime().open_devices(); },
+          "Opens every hand's device (before cycle()).")
+      .def(
+          "close_devices", [](Runtime& r) { r.runtime().close_devices(); },
+          "Closes every hand's device.")
+      .def(
+          "grasp", [](Runtime& r, int hand) { return r.runtime().world().grasp(hand); },
+          py::arg("hand"),
+          "Hand `hand` grasps the free dynamic body its body touches; returns its index or -1.")
+      .def(
+          "release", [](Runtime& r, int hand) { return r.runtime().world().release(hand); },
+          py::arg("hand"), "Hand `hand` lets go of what it grasped; returns how many bodies.")
       .def(
           "surface",
           [](Runtime& r, int object) {

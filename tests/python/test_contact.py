@@ -55,7 +55,7 @@ def test_one_query_gives_the_sweeps_result_and_gradients(dino_field, elephant_tr
     assert result.statistics["points_in_contact"] > 0 and result.statistics["complete"]
 
 
-def test_a_deformable_pointshell_at_rest_pushes_like_the_rigid_one():
+def test_a_deformable_pointshell_at_rest_pushes_like_the_rigid_one(tmp_path):
     # A beam's top face as a pointshell, pressed onto a flat floor field below it.
     mesh = kr.box_hex_mesh([0, 0, 0], [0.2, 0.04, 0.02], (10, 2, 1))
     fem = kr.FemModel(mesh, kr.Material.stvk(1e6, 0.4, 1000.0))
@@ -78,6 +78,12 @@ def test_a_deformable_pointshell_at_rest_pushes_like_the_rigid_one():
     assert abs(rigid.force[2]) > 0 and np.abs(rigid.force[:2]).max() < 1e-9 * abs(rigid.force[2])
     reduced_force = at_rest.pointshell_reduced_force
     assert reduced_force.shape == (6,) and np.abs(reduced_force).max() > 0
+    kc.write_deformable_point_tree(tmp_path / "beam.khztree", deformable)
+    again = kc.read_deformable_point_tree(tmp_path / "beam.khztree")
+    q = np.linspace(-0.01, 0.01, 6)
+    np.testing.assert_array_equal(
+        kc.ContactQuery(again).query(floor, q=q).pointshell_reduced_force,
+        kc.ContactQuery(deformable).query(floor, q=q).pointshell_reduced_force)
     with pytest.raises(ValueError, match=r"q: expected shape \(6,\)"):
         kc.ContactQuery(deformable).query(floor, q=np.zeros(5))
     with pytest.raises(ValueError, match="needs q"):

@@ -189,3 +189,41 @@ def test_value_objects_pickle_and_the_others_say_why_not(beam, model):
         pickle.dumps(model)
     with pytest.raises(TypeError, match="FemModel: pickle its VolumeMesh"):
         pickle.dumps(fem)
+
+
+def test_a_basis_from_simulation_snapshots_spans_them(beam):
+    fem, clamped, tip = beam
+    full = kr.FullNewmark(fem, clamped, time_step=2e-3)
+    snapshots = []
+    for step in range(30):
+        full.step(tip_load(fem, tip, 0.2 * np.sin(0.2 * step)))
+        snapshots.append(full.displacement)
+    snapshots = np.array(snapshots).T  # (3n, s)
+    basis = kr.simulation_data_basis(fem, clamped, snapshots, 4)
+    U = basis.vectors
+    mass = fem.mass_matrix()
+    projected = U @ (U.T @ (mass @ snapshots))  # M-orthogonal projection onto the basis
+    assert np.linalg.norm(projected - snapshots) < 0.05 * np.linalg.norm(snapshots)
+
+
+def test_embedded_surface_positions_and_normals_follow_q(beam, model):
+    fem, _, _ = beam
+    # The beam's top face as a surface: two triangles per top cell, normals up (+z).
+    x = fem.mesh.vertices
+    top = np.flatnonzero(np.isclose(x[:, 2], THICKNESS))
+    order = top[np.lexsort((x[top, 0], x[top, 1]))].reshape(3, 16)  # 3 rows along y, 16 along x
+    triangles = []
+    for j in range(2):
+        for i in range(15):
+            a, b, c, d = order[j, i], order[j, i + 1], order[j + 1, i + 1], order[j + 1, i]
+            triangles += [[a, b, c], [a, c, d]]
+    surface = kr.TriangleMesh(x, np.array(triangles))
+    embedded = kr.EmbeddedSurface(kr.MeshEmbedding(fem.mesh), surface, model.basis)
+    q = np.zeros(model.dimension)
+    np.testing.assert_allclose(embedded.positions(q), x, atol=1e-12)
+    np.testing.assert_allclose(embedded.normals(q)[top], np.tile([0, 0, 1.0], (len(top), 1)),
+                               atol=1e-9)
+    q[0] = 0.01
+    np.testing.assert_allclose(embedded.positions(q),
+                               kr.reconstruct_positions(x, model.basis, q), atol=1e-12)
+    assert np.abs(embedded.normals(q)[top] - [0, 0, 1.0]).max() > 1e-4  # the face tilts

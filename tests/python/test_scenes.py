@@ -158,3 +158,22 @@ def test_ctrl_c_stops_a_run(block_push):
         runtime.run(duration=3600.0)
     timer.join()
     assert not null.is_open
+
+
+def test_a_loop_driven_from_python_sees_the_world(scene_examples, product_cache):
+    prepared = scene.prepare_scene(scene.read_scene(scene_examples / "pick_and_place.json"),
+                                   cache_directory=product_cache)
+    runtime = scene.SceneRuntime(prepared)
+    assert len(runtime.body_names) == len(prepared.description.object_names)
+    assert runtime.pairs and all(a != b for a, b in runtime.pairs)
+    runtime.open_devices()
+    for i in range(50):
+        hands = runtime.cycle(i * 1e-3)
+    runtime.close_devices()
+    assert len(hands) == runtime.hand_count and hands[0]["time"].shape == (1,)
+    assert hands[0]["time"][0] == pytest.approx(49e-3)
+    result = runtime.pair_result(0)
+    assert result.force.shape == (3,)
+    with pytest.raises(IndexError, match="pair 99 out of range"):
+        runtime.pair_result(99)
+    assert runtime.release(0) >= 0 and runtime.grasp(5) == -1
