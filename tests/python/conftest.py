@@ -7,6 +7,11 @@ from pathlib import Path
 import pytest
 
 
+def pytest_configure(config):
+    config.addinivalue_line(
+        "markers", "bad_input: feeds the module bad input; also run under the sanitizer build")
+
+
 def _environment_path(name):
     value = os.environ.get(name)
     if not value:
@@ -45,8 +50,13 @@ def reference():
     """Runs khz_python_reference (tests/python/reference.cpp) and returns its standard output."""
     program = _environment_path("KHZ_PYTHON_REFERENCE")
 
+    # The sanitized build preloads the shared ASan runtime into Python; the reference program
+    # carries its own, and must not get both.
+    environment = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
+
     def run(*args):
-        result = subprocess.run([str(program), *map(str, args)], capture_output=True, text=True)
+        result = subprocess.run([str(program), *map(str, args)], capture_output=True, text=True,
+                                env=environment)
         assert result.returncode == 0, result.stderr
         return result.stdout
 

@@ -100,6 +100,7 @@ def test_pointshell_files_round_trip(cgal_meshes, tmp_path):
     np.testing.assert_array_equal(again.normals, shell.normals)
 
 
+@pytest.mark.bad_input
 def test_bad_options_and_poses_are_refused(dino_field, elephant_tree):
     with pytest.raises(kilohertz.Error, match="stiffness"):
         kc.ContactOptions(stiffness=-1)

@@ -15,6 +15,7 @@ from kilohertz.haptic import (
 )
 
 
+@pytest.mark.bad_input
 def test_capabilities_are_validated_with_the_librarys_message():
     caps = DeviceCapabilities(name="pen", max_force=5, max_torque=0.2, max_stiffness=2000)
     assert caps.name == "pen" and caps.output_dof == 6
@@ -25,6 +26,7 @@ def test_capabilities_are_validated_with_the_librarys_message():
         DeviceCapabilities(max_force=1, max_torque=1, max_stiffness=1, workspace_min=[0, 0])
 
 
+@pytest.mark.bad_input
 def test_a_reading_holds_a_unit_quaternion_and_optional_velocities():
     state = DeviceState(position=[0.01, 0, 0], orientation=[0, 1, 0, 0], buttons=3, time=0.5)
     np.testing.assert_array_equal(state.orientation, [0, 1, 0, 0])
@@ -58,6 +60,7 @@ def test_a_trajectory_from_arrays_plays_at_the_nominal_rate():
     assert device.finished
 
 
+@pytest.mark.bad_input
 @pytest.mark.parametrize("name", ["empty", "missing_field", "nan_coordinate", "non_numeric",
                                   "non_unit_quaternion", "time_not_increasing", "wrong_header"])
 def test_malformed_trajectories_raise_parse_errors_naming_the_file(test_data, name):
@@ -66,6 +69,7 @@ def test_malformed_trajectories_raise_parse_errors_naming_the_file(test_data, na
         TrajectoryDevice(file)
 
 
+@pytest.mark.bad_input
 def test_bad_trajectory_arrays_are_refused():
     with pytest.raises(ValueError, match=r"positions: expected shape \(2, 3\)"):
         TrajectoryDevice(times=[0, 1], positions=np.zeros((3, 3)))

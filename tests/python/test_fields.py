@@ -83,6 +83,7 @@ def test_the_signed_field_is_negative_inside_and_the_unsigned_one_positive(dino,
     del centroid
 
 
+@pytest.mark.bad_input
 def test_a_grid_from_values_and_its_pickle(dino_field):
     copy = DistanceGrid(dino_field.geometry, dino_field.values, True)
     points = points_around(dino_field, 100)
@@ -95,6 +96,7 @@ def test_a_grid_from_values_and_its_pickle(dino_field):
         DistanceGrid(GridGeometry([0, 0, 0], 0.1, 1), np.full(8, np.nan, dtype=np.float32), True)
 
 
+@pytest.mark.bad_input
 def test_files_round_trip_and_bad_files_raise_parse_errors(dino_field, tmp_path):
     write_distance_field(tmp_path / "dino.khzsdf", dino_field)
     again = read_distance_field(tmp_path / "dino.khzsdf")
@@ -106,6 +108,7 @@ def test_files_round_trip_and_bad_files_raise_parse_errors(dino_field, tmp_path)
         read_distance_field(tmp_path / "missing.khzsdf")
 
 
+@pytest.mark.bad_input
 @pytest.mark.parametrize("bad, error, message", [
     (np.zeros((4, 2)), ValueError, r"points: expected shape \(N, 3\) or \(3,\), got \(4, 2\)"),
     ([[0, 0, np.nan]], ValueError, "points: row 0 is not finite"),
@@ -117,6 +120,7 @@ def test_bad_points_raise_clear_errors(dino_field, bad, error, message):
         dino_field.distance(bad)
 
 
+@pytest.mark.bad_input
 def test_bad_options_raise_the_librarys_error(dino):
     with pytest.raises(kilohertz.Error, match="cells"):
         signed_distance_field(dino, cells=0)
@@ -124,6 +128,7 @@ def test_bad_options_raise_the_librarys_error(dino):
         signed_distance_field(dino, cells=8, exact_band=1.0)
 
 
+@pytest.mark.bad_input
 def test_progress_reports_cancels_and_propagates_exceptions(dino):
     reports = []
     signed_distance_field(dino, cells=32, progress=lambda *report: reports.append(report))

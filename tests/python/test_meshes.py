@@ -77,6 +77,7 @@ def test_volume_meshes_read_and_write(test_data, tmp_path):
     assert hexes.element_type == ElementType.hexahedron and hexes.elements.shape[1] == 8
 
 
+@pytest.mark.bad_input
 @pytest.mark.parametrize("folder", ["obj", "off", "ply", "stl"])
 def test_malformed_files_raise_the_librarys_error_naming_the_file(test_data, folder):
     files = sorted((test_data / "malformed" / folder).iterdir())
@@ -87,6 +88,7 @@ def test_malformed_files_raise_the_librarys_error_naming_the_file(test_data, fol
         assert file.name in str(raised.value), str(raised.value)
 
 
+@pytest.mark.bad_input
 def test_a_missing_file_is_an_io_error_and_an_unknown_extension_an_error(tmp_path):
     with pytest.raises(kilohertz.IoError, match="missing.off"):
         read_triangle_mesh(tmp_path / "missing.off")
@@ -97,6 +99,7 @@ def test_a_missing_file_is_an_io_error_and_an_unknown_extension_an_error(tmp_pat
 TRIANGLE = ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
 
 
+@pytest.mark.bad_input
 def test_a_mesh_from_arrays_checks_shapes_dtypes_values_and_indices():
     vertices, triangles = TRIANGLE
     mesh = TriangleMesh(vertices, triangles)
@@ -131,6 +134,7 @@ def test_meshes_pickle(cgal_meshes):
     np.testing.assert_array_equal(again.vertex_colors, mesh.vertex_colors)
 
 
+@pytest.mark.bad_input
 def test_volume_meshes_check_their_element_width():
     with pytest.raises(ValueError, match=r"elements: expected shape \(N, 8\)"):
         VolumeMesh(np.zeros((4, 3)), [[0, 1, 2, 3]], ElementType.hexahedron)

@@ -126,6 +126,7 @@ def test_material_edits_change_the_model_without_a_new_precompute(model):
     assert forces.shape == (model.dimension,) and stiffness.shape == (model.dimension,) * 2
 
 
+@pytest.mark.bad_input
 def test_files_round_trip_and_refuse_another_mesh(beam, model, tmp_path):
     fem, _, _ = beam
     again = pickle.loads(pickle.dumps(model.basis))  # bases pickle by value
@@ -139,6 +140,7 @@ def test_files_round_trip_and_refuse_another_mesh(beam, model, tmp_path):
         kr.read_basis(tmp_path / "beam.khzbasis", other)
 
 
+@pytest.mark.bad_input
 def test_bad_input_raises_clear_errors(beam, model):
     fem, clamped, _ = beam
     with pytest.raises(ValueError, match=r"u: expected shape \(432,\) or \(144, 3\), got \(10,\)"):

@@ -28,6 +28,7 @@ def test_every_bundled_scene_reads(scene_examples):
         assert description.object_names and description.hand_count >= 1, file
 
 
+@pytest.mark.bad_input
 def test_a_scene_from_a_dict_is_validated_with_key_paths(scene_examples):
     text = json.loads((scene_examples / "block_push.json").read_text())
     parsed = scene.parse_scene(text, base_directory=scene_examples)
@@ -119,6 +120,7 @@ def test_a_python_device_in_the_cycle_gives_the_cpp_devices_result(block_push):
         np.testing.assert_array_equal(through_python[column], expected[column])
 
 
+@pytest.mark.bad_input
 def test_an_exception_in_a_python_device_stops_the_run_and_is_raised(block_push):
     class Failing(Relay):
         def read(self):
@@ -140,6 +142,7 @@ def test_an_exception_in_a_python_device_stops_the_run_and_is_raised(block_push)
             cycles=10)
 
 
+@pytest.mark.bad_input
 def test_runs_without_a_duration_or_with_the_wrong_devices_are_refused(block_push):
     with pytest.raises(ValueError, match="no duration"):
         scene.SceneRuntime(block_push, [scene.make_device({"type": "null"})]).run()
