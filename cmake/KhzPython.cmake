@@ -38,10 +38,19 @@ endif()
 if(KHZ_BUILD_PYTHON)
   message(STATUS "Kilohertz Python module: for ${Python_EXECUTABLE} (${Python_VERSION}, "
                  "NumPy ${Python_NumPy_VERSION}, pybind11 ${pybind11_VERSION})")
-  # Where `cmake --install` puts the package, relative to the prefix: the layout Python's own
-  # "posix_prefix" scheme uses, so PYTHONPATH=<prefix>/<this> imports it.
+  # Where `cmake --install` puts the package, relative to the prefix: lib/pythonX.Y/ and the
+  # folder name this interpreter uses for a prefix's packages, so that installing to the
+  # prefix it searches (/usr/local on Debian, whose Python reads dist-packages there) needs no
+  # PYTHONPATH, and any other prefix is one PYTHONPATH=<prefix>/<this> away.
+  execute_process(
+    COMMAND "${Python_EXECUTABLE}" -c
+            "import sysconfig; print(sysconfig.get_path('purelib').rstrip('/').split('/')[-1])"
+    OUTPUT_VARIABLE khz_packages_folder OUTPUT_STRIP_TRAILING_WHITESPACE)
+  if(NOT khz_packages_folder MATCHES "^(site|dist)-packages$")
+    set(khz_packages_folder site-packages)
+  endif()
   set(KHZ_PYTHON_INSTALL_DIR
-      "${CMAKE_INSTALL_LIBDIR}/python${Python_VERSION_MAJOR}.${Python_VERSION_MINOR}/site-packages"
+      "lib/python${Python_VERSION_MAJOR}.${Python_VERSION_MINOR}/${khz_packages_folder}"
       CACHE STRING "Install directory of the kilohertz Python package, relative to the prefix")
 elseif(PROJECT_IS_TOP_LEVEL)
   message(STATUS "Kilohertz Python module: off (needs python3-dev python3-numpy pybind11-dev)")
