@@ -221,20 +221,25 @@ Raises Error naming an invalid value.)")
       .def_readonly("max_level", &ContactOptions::max_level);
 }
 
-/// 4×4 world ← body from a (4, 4) array-like; the rotation must be orthonormal.
-Eigen::Isometry3d pose_in(const py::handle& input, std::string_view what) {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  if (input.is_none()) return pose;
-  const auto m = real_matrix(input, what, 4, 4);
+/// A 4×4 world ← body matrix as a pose; the rotation must be orthonormal.
+Eigen::Isometry3d pose_from_matrix(const Eigen::Ref<const Eigen::Matrix4d>& m,
+                                   std::string_view what) {
   const Eigen::Matrix3d r = m.topLeftCorner(3, 3);
   if ((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6 ||
       r.determinant() < 0.0) {
     throw py::value_error(std::string(what) +
                           ": the upper-left 3×3 block is not a rotation (orthonormal, det +1)");
   }
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.linear() = r;
   pose.translation() = m.topRightCorner(3, 1);
   return pose;
+}
+
+/// 4×4 world ← body from a (4, 4) array-like (None: identity).
+Eigen::Isometry3d pose_in(const py::handle& input, std::string_view what) {
+  if (input.is_none()) return Eigen::Isometry3d::Identity();
+  return pose_from_matrix(real_matrix(input, what, 4, 4), what);
 }
 
 py::dict statistics_out(const contact::ContactStatistics& s) {
@@ -377,9 +382,7 @@ input (friction with its default stick distance on a field without cells, say).)
             const Eigen::Isometry3d field_frame = pose_in(field_pose, "field_pose");
             for (Eigen::Index i = 0; i < n; ++i) {
               auto& f = frames[static_cast<std::size_t>(i)];
-              f.pointshell = pose_in(
-                  copy_of(Eigen::Matrix<double, 4, 4, Eigen::RowMajor>(stack.middleRows(4 * i, 4))),
-                  "pointshell_poses");
+              f.pointshell = pose_from_matrix(stack.middleRows(4 * i, 4), "pointshell_poses");
               f.field = field_frame;
               f.grasp_point = f.pointshell.translation();
             }
