@@ -10,16 +10,16 @@
 // A plain program (CLI11): the first run prepares the scenes into --cache (minutes), later runs
 // read them.
 
-#include <khz/run/contact_sweep.hpp>
-#include <khz/run/cycle_log.hpp>
 #include <khz/run/held_still_device.hpp>
-#include <khz/run/run_scene.hpp>
-#include <khz/run/run_summary.hpp>
-#include <khz/run/stability_map.hpp>
+#include <khz/scene/contact_sweep.hpp>
+#include <khz/scene/cycle_log.hpp>
 #include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/product_cache.hpp>
 #include <khz/scene/read_scene.hpp>
+#include <khz/scene/run_scene.hpp>
+#include <khz/scene/run_summary.hpp>
 #include <khz/scene/scene_runtime.hpp>
+#include <khz/scene/stability_map.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -54,18 +54,18 @@ SceneFigures measure(scene::PreparedScene& prepared, const std::filesystem::path
   const double rate = prepared.description.loop.rate_hz;
   // The run as bundled, every state kept for the error against the full traversal.
   scene::SceneRuntime runtime(prepared);
-  std::vector<run::RecordedState> states;
-  run::RunOptions options;
+  std::vector<scene::RecordedState> states;
+  scene::RunOptions options;
   options.frame_every = 1;
   options.on_frame = [&](int, scene::SceneRuntime& r) {
-    states.push_back(run::record_state(r));
+    states.push_back(scene::record_state(r));
     return true;
   };
-  const run::HandRows rows = run::run_scene(runtime, options);
+  const scene::HandRows rows = scene::run_scene(runtime, options);
   const haptic::CycleMetricsSummary m = runtime.world().metrics(0);
-  const run::RunSummary summary = run::summarize(rows.front(), 1.0 / rate);
-  f.contact_jump = run::percent_of(m.contact_force_jump.p99, m.peak_contact_force);
-  f.rendered_jump = run::percent_of(m.rendered_force_jump.p99, m.peak_rendered_force);
+  const scene::RunSummary summary = scene::summarize(rows.front(), 1.0 / rate);
+  f.contact_jump = scene::percent_of(m.contact_force_jump.p99, m.peak_contact_force);
+  f.rendered_jump = scene::percent_of(m.rendered_force_jump.p99, m.peak_rendered_force);
   f.deepest_voxels = m.deepest_penetration_voxels;
   f.lowest_energy = m.lowest_energy;
   f.cut_cycles = summary.incomplete_cycles;
@@ -76,7 +76,7 @@ SceneFigures measure(scene::PreparedScene& prepared, const std::filesystem::path
     const contact::DegradationOptions given = degradation;
     degradation.mode = contact::DegradationOptions::Mode::none;
     scene::SceneRuntime full(prepared);
-    const run::HandRows full_rows = run::run_scene(full);
+    const scene::HandRows full_rows = scene::run_scene(full);
     degradation = given;
     f.cut_that_fit = f.cut_that_clearly_fit = 0;
     for (std::size_t i = 0; i < std::min(rows.front().size(), full_rows.front().size()); ++i) {
@@ -89,18 +89,18 @@ SceneFigures measure(scene::PreparedScene& prepared, const std::filesystem::path
 
   // The scene's own contact options against every level without degradation (coherence off
   // in both: it changes cost, never the force).
-  std::vector<run::SweepSetting> settings{
-      run::default_sweep(prepared.description.contact, run::tree_levels(prepared)).front(),
+  std::vector<scene::SweepSetting> settings{
+      scene::default_sweep(prepared.description.contact, scene::tree_levels(prepared)).front(),
       {"as given", prepared.description.contact}};
   settings[1].options.coherence.enabled = false;
-  const std::vector<run::SweepResult> sweep = run::sweep_contact(runtime, states, settings);
+  const std::vector<scene::SweepResult> sweep = scene::sweep_contact(runtime, states, settings);
   f.force_error = sweep[1].force_error;
   f.max_force_error = sweep[1].max_force_error;
 
   // The steady press: every hand's device held from the cycle of the largest contact force.
   const run::SteadyPress press = run::steady_press(prepared, rows.front(), 0.5);
   f.hold_time = press.hold_time;
-  if (!log.empty()) run::write_cycle_csv(press.rows.front(), log);
+  if (!log.empty()) scene::write_cycle_csv(press.rows.front(), log);
   const haptic::CycleMetricsSummary& s = press.metrics.front();
   f.still_step_p99 = s.still_translation.p99;
   f.still_step_max = s.still_translation.max;
@@ -159,9 +159,9 @@ int main(int argc, char** argv) {
         1e6 * f.still_step_max, f.still_turn_p99, f.still_turn_max,
         f.still_cycles > 0 ? "" : "  (never still)");
     if (map) {
-      const std::vector<run::StabilityPoint> points =
-          run::stability_map(prepared, run::default_stability_settings(prepared.description));
-      for (const run::StabilityPoint& p : points) {
+      const std::vector<scene::StabilityPoint> points =
+          scene::stability_map(prepared, scene::default_stability_settings(prepared.description));
+      for (const scene::StabilityPoint& p : points) {
         if (!p.refused.empty()) {
           std::printf("    %-34s refused: %s\n", p.setting.name().c_str(), p.refused.c_str());
           continue;

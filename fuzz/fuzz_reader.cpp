@@ -1,6 +1,6 @@
 // libFuzzer entry point for one reader of outside input other than the mesh formats, chosen at
 // compile time by KHZ_FUZZ_READ: Kilohertz's binary files (cache files are outside input too),
-// scene and device JSON, and the trajectory and force-load CSV files.
+// scene and device JSON, the trajectory, force-load and cycle-log CSV files.
 //
 // The contract under test: for any bytes, a reader either returns what it reads or throws a
 // khz::reduced::ParseError (a khz::scene::SceneError for JSON). Anything else (crash, sanitizer
@@ -21,6 +21,7 @@
 #include <khz/reduced/io/basis_file.hpp>
 #include <khz/reduced/io/binary_container.hpp>
 #include <khz/reduced/io/reduced_model_file.hpp>
+#include <khz/scene/cycle_log.hpp>
 #include <khz/scene/read_scene.hpp>
 #include <khz/scene/scene_error.hpp>
 
@@ -129,6 +130,9 @@ scene::SceneReadOptions without_files() {
   scene::parse_device(data, "fuzz.json", 1000.0, without_files());
 }
 
+[[maybe_unused]] void fuzz_read_cycles(std::string_view data) {
+  scene::parse_cycle_csv(data, "fuzz.csv");
+}
 [[maybe_unused]] void fuzz_read_trajectory(std::string_view data) {
   haptic::parse_trajectory(data, "fuzz.csv");
 }

@@ -15,7 +15,7 @@
 #include <khz/reduced/io/mesh_fingerprint.hpp>
 #include <khz/reduced/meshing/box_mesh.hpp>
 #include <khz/render/png_file.hpp>
-#include <khz/run/cycle_log.hpp>
+#include <khz/scene/cycle_log.hpp>
 #include <khz/test/fixtures.hpp>
 
 #include <gtest/gtest.h>
@@ -226,7 +226,7 @@ TEST(KhzInfo, CsvThatIsNoTrajectoryExitsWithOne) {
 }
 
 TEST(KhzInfo, CycleLog) {
-  std::vector<run::CycleRow> rows(4);
+  std::vector<scene::CycleRow> rows(4);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     rows[i].time = 0.002 * static_cast<double>(i);
     rows[i].cycle_us = 10.0 * static_cast<double>(i + 1);
@@ -237,7 +237,7 @@ TEST(KhzInfo, CycleLog) {
   rows[2].force = Eigen::Vector3d(0.0, 3.0, 4.0);
   rows[3].ok = false;
   const std::filesystem::path file = scratch_file("cycles.csv");
-  run::write_cycle_csv(rows, file);
+  scene::write_cycle_csv(rows, file);
   const KhzRun run = khz_info(file);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_TRUE(has_line_with(run, {"kind:", "khz run cycle log"}));
@@ -251,11 +251,11 @@ TEST(KhzInfo, CycleLog) {
 // A log written before the penetration, residual, energy and sliding columns existed is still a
 // cycle log to khz info, as it is to read_cycle_csv().
 TEST(KhzInfo, CycleLogOfAnEarlierVersion) {
-  std::vector<run::CycleRow> rows(3);
+  std::vector<scene::CycleRow> rows(3);
   for (std::size_t i = 0; i < rows.size(); ++i) rows[i].time = 0.001 * static_cast<double>(i);
   rows[1].contacts = 5;
   const std::filesystem::path current = scratch_file("current_cycles.csv");
-  run::write_cycle_csv(rows, current);
+  scene::write_cycle_csv(rows, current);
   const std::filesystem::path file = scratch_file("earlier_cycles.csv");
   {
     std::ifstream in(current);

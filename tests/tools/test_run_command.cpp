@@ -4,7 +4,7 @@
 #include "khz_command.hpp"
 
 #include <khz/render/png_file.hpp>
-#include <khz/run/cycle_log.hpp>
+#include <khz/scene/cycle_log.hpp>
 
 #include <gtest/gtest.h>
 
@@ -55,7 +55,7 @@ TEST(KhzRun, WritesTheCycleLogFramesAndParaViewSeries) {
   EXPECT_TRUE(has_line_with(run, {"cycles:", "300", "in contact"}));
   EXPECT_TRUE(has_line_with(run, {"failed cycles: 0"}));
 
-  const std::vector<run::CycleRow> rows = run::read_cycle_csv(out / "cycles.csv");
+  const std::vector<scene::CycleRow> rows = scene::read_cycle_csv(out / "cycles.csv");
   ASSERT_EQ(rows.size(), 300u);  // 0.3 s at 1 kHz (the trajectory's length)
   EXPECT_DOUBLE_EQ(rows[150].time, 0.15);
   EXPECT_GT(rows[150].contacts, 0);
@@ -121,7 +121,7 @@ TEST(KhzRun, LogsAndSummarizesSlidingPoints) {
                          "\" --cache \"" + cache.string() + "\"");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_TRUE(has_line_with(run, {"friction:", "% of the points in contact slid"}));
-  const std::vector<run::CycleRow> rows = run::read_cycle_csv(out / "cycles.csv");
+  const std::vector<scene::CycleRow> rows = scene::read_cycle_csv(out / "cycles.csv");
   ASSERT_EQ(rows.size(), 300u);
   std::int64_t sliding = 0;
   double drag = 0.0;

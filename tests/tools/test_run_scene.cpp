@@ -7,16 +7,16 @@
 #include <khz/contact/query/contact_query.hpp>
 #include <khz/haptic/device/null_device.hpp>
 #include <khz/haptic/device/trajectory_file.hpp>
-#include <khz/run/cycle_log.hpp>
 #include <khz/run/device_choice.hpp>
 #include <khz/run/frame_renderer.hpp>
 #include <khz/run/free_bodies.hpp>
 #include <khz/run/held_still_device.hpp>
 #include <khz/run/point_states.hpp>
 #include <khz/run/run_realtime.hpp>
-#include <khz/run/run_scene.hpp>
-#include <khz/run/run_summary.hpp>
+#include <khz/scene/cycle_log.hpp>
 #include <khz/scene/prepare_scene.hpp>
+#include <khz/scene/run_scene.hpp>
+#include <khz/scene/run_summary.hpp>
 
 #include <gtest/gtest.h>
 
@@ -167,17 +167,17 @@ TEST(RunScene, TrajectoryPressIsReproducibleAndPushesBack) {
   const auto run_once = [&] {
     scene::SceneRuntime runtime(prepared);
     EXPECT_NEAR(runtime.natural_duration(), 0.301, 1e-12);
-    return run_scene(runtime);
+    return scene::run_scene(runtime);
   };
-  const std::vector<CycleRow> rows = run_once().at(0);
-  const std::vector<CycleRow> again = run_once().at(0);
+  const std::vector<scene::CycleRow> rows = run_once().at(0);
+  const std::vector<scene::CycleRow> again = run_once().at(0);
   ASSERT_EQ(rows.size(), 301u);
   ASSERT_EQ(again.size(), rows.size());
   for (std::size_t i = 0; i < rows.size(); ++i) {
     EXPECT_EQ(rows[i].force, again[i].force) << "cycle " << i;
     EXPECT_EQ(rows[i].simulation, again[i].simulation) << "cycle " << i;
   }
-  const RunSummary summary = summarize(rows, 1e-3);
+  const scene::RunSummary summary = scene::summarize(rows, 1e-3);
   EXPECT_TRUE(summary.finite);
   EXPECT_EQ(summary.failed_cycles, 0);
   EXPECT_GT(summary.cycles_in_contact, 50);
@@ -190,7 +190,7 @@ TEST(RunScene, TrajectoryPressIsReproducibleAndPushesBack) {
 }
 
 TEST(CycleLog, CsvRoundTripIsExactAndMalformedRowsNameTheirLine) {
-  std::vector<CycleRow> rows(3);
+  std::vector<scene::CycleRow> rows(3);
   rows[1].time = 1e-3;
   rows[1].force = {0.1, -2.5e-7, 3.0 / 7.0};
   rows[1].nodes = 123456789;
@@ -204,8 +204,8 @@ TEST(CycleLog, CsvRoundTripIsExactAndMalformedRowsNameTheirLine) {
   rows[2].energy = -1.0 / 3.0;
   rows[2].sliding = 7;
   const std::filesystem::path file = test::scratch_file("cycles.csv");
-  write_cycle_csv(rows, file);
-  const std::vector<CycleRow> back = read_cycle_csv(file);
+  scene::write_cycle_csv(rows, file);
+  const std::vector<scene::CycleRow> back = scene::read_cycle_csv(file);
   ASSERT_EQ(back.size(), rows.size());
   EXPECT_EQ(back[1].force, rows[1].force);
   EXPECT_EQ(back[1].nodes, rows[1].nodes);
@@ -231,27 +231,43 @@ TEST(CycleLog, CsvRoundTripIsExactAndMalformedRowsNameTheirLine) {
     }
     return earlier;
   };
-  const std::vector<CycleRow> before_sliding =
-      read_cycle_csv(without_last(1, "metrics_cycles.csv"));
+  const std::vector<scene::CycleRow> before_sliding =
+      scene::read_cycle_csv(without_last(1, "metrics_cycles.csv"));
   ASSERT_EQ(before_sliding.size(), rows.size());
   EXPECT_EQ(before_sliding[2].energy, -1.0 / 3.0);
   EXPECT_EQ(before_sliding[2].sliding, 0);
-  const std::vector<CycleRow> old = read_cycle_csv(without_last(5, "legacy_cycles.csv"));
+  const std::vector<scene::CycleRow> old =
+      scene::read_cycle_csv(without_last(5, "legacy_cycles.csv"));
   ASSERT_EQ(old.size(), rows.size());
   EXPECT_EQ(old[1].force, rows[1].force);
   EXPECT_FALSE(old[2].ok);
   EXPECT_EQ(old[2].energy, 0.0);
-  EXPECT_THROW(read_cycle_csv(without_last(4, "truncated_cycles.csv")), reduced::ParseError);
+  EXPECT_THROW(scene::read_cycle_csv(without_last(4, "truncated_cycles.csv")), reduced::ParseError);
 
   std::ofstream(file, std::ios::app) << "0.5,1,2\n";
   try {
-    read_cycle_csv(file);
+    scene::read_cycle_csv(file);
     FAIL() << "a short row was accepted";
   } catch (const reduced::ParseError& error) {
     EXPECT_EQ(error.line(), 5);
   }
   std::ofstream(file) << "t,x,y,z\n";
-  EXPECT_THROW(read_cycle_csv(file), reduced::ParseError);
+  EXPECT_THROW(scene::read_cycle_csv(file), reduced::ParseError);
+
+  // A count no integer holds (found by fuzz_cycles: converting it was undefined behaviour) or
+  // a fractional level is refused, naming the column.
+  std::string row = "0";
+  for (int column = 1; column < 36; ++column) row += column == 16 ? ",1e300" : ",1";
+  try {
+    scene::parse_cycle_csv(scene::cycle_csv_header() + "\n" + row + "\n", "huge.csv");
+    FAIL() << "a count of 1e300 was accepted";
+  } catch (const reduced::ParseError& error) {
+    EXPECT_EQ(error.line(), 2);
+    EXPECT_NE(error.message().find("column 17"), std::string::npos) << error.what();
+  }
+  row.replace(row.find("1e300"), 5, "2.5");
+  EXPECT_THROW(scene::parse_cycle_csv(scene::cycle_csv_header() + "\n" + row + "\n", "half.csv"),
+               reduced::ParseError);
 }
 
 // The frame's classification finds exactly the points the query counted in contact, every one
@@ -294,7 +310,7 @@ TEST(RunScene, ReducedToolDeformsUnderContact) {
   scene::SceneRuntime runtime(prepared);
   // The largest displacement of the bottom face (in contact, free) and of the anchored top.
   double bottom = 0.0, top = 0.0;
-  RunOptions options;
+  scene::RunOptions options;
   options.duration = 0.1;
   options.frame_every = 1;
   options.on_frame = [&](int, scene::SceneRuntime& r) {
@@ -306,9 +322,9 @@ TEST(RunScene, ReducedToolDeformsUnderContact) {
     }
     return true;
   };
-  const std::vector<CycleRow> rows = run_scene(runtime, options).at(0);
+  const std::vector<scene::CycleRow> rows = scene::run_scene(runtime, options).at(0);
   ASSERT_EQ(rows.size(), 100u);
-  const RunSummary summary = summarize(rows, 1e-3);
+  const scene::RunSummary summary = scene::summarize(rows, 1e-3);
   EXPECT_TRUE(summary.finite);
   EXPECT_EQ(summary.failed_cycles, 0);
   EXPECT_GT(summary.cycles_in_contact, 50);
@@ -401,7 +417,7 @@ TEST(RunScene, AFreeObjectFallsOntoTheWallAndComesToRest) {
   const haptic::FreeBodyMotion* box = runtime.world().motion(2);
   ASSERT_NE(box, nullptr);
   EXPECT_NEAR(box->inertia().mass, 500.0 * 0.04 * 0.04 * 0.04, 1e-12);
-  run_scene(runtime);
+  scene::run_scene(runtime);
   const std::vector<FreeBodyState> states = free_body_states(runtime);
   ASSERT_EQ(states.size(), 1u);
   EXPECT_EQ(states[0].name, "box");
@@ -445,13 +461,13 @@ TEST(RunSceneRealtime, RunsEveryCycleOnTheLoopAndClosesTheDevice) {
   scene::SceneRuntime runtime(prepared);
   const RealtimeRun run = run_scene_realtime(runtime, 0.2);
   ASSERT_EQ(run.rows.size(), 1u);
-  const std::vector<CycleRow>& rows = run.rows.front();
+  const std::vector<scene::CycleRow>& rows = run.rows.front();
   ASSERT_EQ(rows.size(), 200u);
   for (std::size_t i = 1; i < rows.size(); ++i) {
     EXPECT_GE(rows[i].time - rows[i - 1].time, 1e-3 - 1e-12) << "cycle " << i;
   }
   EXPECT_GE(run.loop.cycles, 200);
-  const RunSummary summary = summarize(rows, 1e-3);
+  const scene::RunSummary summary = scene::summarize(rows, 1e-3);
   EXPECT_TRUE(summary.finite);
   EXPECT_EQ(summary.failed_cycles, 0);
   EXPECT_EQ(summary.cycles_in_contact, 200);  // held 1 mm deep by the null device
@@ -464,7 +480,7 @@ TEST(RunScene, NullDeviceWithoutDurationIsRefusedWithAHint) {
   const scene::PreparedScene prepared = prepare(json);
   scene::SceneRuntime runtime(prepared);
   try {
-    run_scene(runtime);
+    scene::run_scene(runtime);
     FAIL() << "ran without a duration";
   } catch (const reduced::Error& error) {
     EXPECT_NE(std::string(error.what()).find("--duration"), std::string::npos) << error.what();

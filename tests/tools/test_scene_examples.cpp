@@ -3,14 +3,14 @@
 // fields and pointshells, small bases — with its outputs checked: forces finite and bounded,
 // contact made, no failed cycle, a second preparation computing nothing, the speed-against-
 // error sweep ordered as it should be, and a frame in contact showing its contact points.
-#include <khz/run/contact_sweep.hpp>
 #include <khz/run/frame_renderer.hpp>
 #include <khz/run/held_still_device.hpp>
-#include <khz/run/run_scene.hpp>
-#include <khz/run/run_summary.hpp>
+#include <khz/scene/contact_sweep.hpp>
 #include <khz/scene/content_key.hpp>
 #include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/read_scene.hpp>
+#include <khz/scene/run_scene.hpp>
+#include <khz/scene/run_summary.hpp>
 #include <khz/test/fixtures.hpp>
 #include <khz/test/sanitizers.hpp>
 
@@ -134,7 +134,7 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
       << "the second preparation recomputes nothing";
 
   scene::SceneRuntime runtime(prepared);
-  std::vector<run::RecordedState> states;
+  std::vector<scene::RecordedState> states;
   std::optional<run::FrameSummary> contact_frame;
   const run::FrameRenderer renderer(runtime, [] {
     run::FrameOptions frame;
@@ -142,10 +142,10 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
     frame.height = 150;
     return frame;
   }());
-  run::RunOptions run_options;
+  scene::RunOptions run_options;
   run_options.frame_every = 1;
   run_options.on_frame = [&](int, scene::SceneRuntime& r) {
-    states.push_back(run::record_state(r));
+    states.push_back(scene::record_state(r));
     if (!contact_frame && r.world().records()[0].contact.statistics.points_in_contact > 0) {
       run::FrameSummary summary;
       renderer.render(run::capture_frame(r), &summary);
@@ -153,11 +153,11 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
     }
     return true;
   };
-  const run::HandRows rows = run::run_scene(runtime, run_options);
+  const scene::HandRows rows = scene::run_scene(runtime, run_options);
   ASSERT_EQ(rows.size(), description.haptic.size());
   for (std::size_t h = 0; h < rows.size(); ++h) {
     SCOPED_TRACE("hand " + std::to_string(h));
-    const run::RunSummary summary = run::summarize(rows[h], 1.0 / description.loop.rate_hz);
+    const scene::RunSummary summary = scene::summarize(rows[h], 1.0 / description.loop.rate_hz);
     EXPECT_TRUE(summary.finite);
     EXPECT_EQ(summary.failed_cycles, 0);
     EXPECT_GT(summary.cycles_in_contact, summary.cycles / 10) << "the example is about contact";
@@ -172,11 +172,11 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
   EXPECT_GT(contact_frame->in_contact, 0);
   EXPECT_GT(contact_frame->traversed, 0);
 
-  const std::vector<run::SweepSetting> settings =
-      run::default_sweep(description.contact, run::tree_levels(prepared));
+  const std::vector<scene::SweepSetting> settings =
+      scene::default_sweep(description.contact, scene::tree_levels(prepared));
   std::vector<std::string> stages;
-  const std::vector<run::SweepResult> sweep =
-      run::sweep_contact(runtime, states, settings, 300, [&](const reduced::Progress& progress) {
+  const std::vector<scene::SweepResult> sweep =
+      scene::sweep_contact(runtime, states, settings, 300, [&](const reduced::Progress& progress) {
         if (progress.done == 0) stages.emplace_back(progress.stage);
         return true;
       });
@@ -190,10 +190,11 @@ TEST_P(SmallExample, RunsWithFiniteForcesContactAndACachedSecondPreparation) {
   // Cancelled while replaying at level 0, it stops and leaves the scene's own options in place.
   ASSERT_EQ(settings[1].options.max_level, 0);
   ASSERT_NE(description.contact.max_level, 0);
-  EXPECT_THROW(run::sweep_contact(runtime, states, settings, 300,
-                                  [&](const reduced::Progress& progress) {
-                                    return progress.stage != settings[1].name || progress.done < 3;
-                                  }),
+  EXPECT_THROW(scene::sweep_contact(runtime, states, settings, 300,
+                                    [&](const reduced::Progress& progress) {
+                                      return progress.stage != settings[1].name ||
+                                             progress.done < 3;
+                                    }),
                reduced::Cancelled);
   EXPECT_EQ(runtime.world().contact_options().max_level, description.contact.max_level);
   EXPECT_EQ(sweep[0].force_error, 0.0);  // the reference against itself
@@ -225,7 +226,7 @@ TEST_P(SmallExample, IsSmoothKeepsOutAndSettlesInASteadyPress) {
   const PreparedScene prepared = prepare_scene(description, cache);
 
   SceneRuntime runtime(prepared);
-  const run::HandRows rows = run::run_scene(runtime);
+  const scene::HandRows rows = scene::run_scene(runtime);
   for (int h = 0; h < runtime.hand_count(); ++h) {
     SCOPED_TRACE("hand " + std::to_string(h));
     const haptic::CycleMetricsSummary m = runtime.world().metrics(h);
@@ -236,13 +237,13 @@ TEST_P(SmallExample, IsSmoothKeepsOutAndSettlesInASteadyPress) {
   }
 
   const run::SteadyPress press = run::steady_press(prepared, rows.front(), 1.2);
-  const run::HandRows& pressed = press.rows;
+  const scene::HandRows& pressed = press.rows;
   // The largest step, turn and change of step per cycle over [from, from + 0.2 s] after the hold.
   struct Motion {
     double step = 0.0, turn = 0.0, jerk = 0.0;
     int cycles = 0;
   };
-  const auto motion = [&](const std::vector<run::CycleRow>& hand_rows, double from) {
+  const auto motion = [&](const std::vector<scene::CycleRow>& hand_rows, double from) {
     Motion m;
     for (std::size_t i = 2; i < hand_rows.size(); ++i) {
       const double t = hand_rows[i - 2].time - press.hold_time;

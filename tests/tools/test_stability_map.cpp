@@ -4,12 +4,12 @@
 #include "scene_fixtures.hpp"
 
 #include <khz/reduced/errors.hpp>
-#include <khz/run/run_scene.hpp>
-#include <khz/run/run_summary.hpp>
-#include <khz/run/stability_map.hpp>
 #include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/product_cache.hpp>
+#include <khz/scene/run_scene.hpp>
+#include <khz/scene/run_summary.hpp>
 #include <khz/scene/scene_runtime.hpp>
+#include <khz/scene/stability_map.hpp>
 
 #include <gtest/gtest.h>
 
@@ -39,15 +39,16 @@ scene::PreparedScene prepare(const nlohmann::json& json) {
 /// The metrics of one run of `prepared` as the scene gives it.
 haptic::CycleMetricsSummary run_metrics(scene::PreparedScene& prepared) {
   scene::SceneRuntime runtime(prepared);
-  run_scene(runtime);
+  scene::run_scene(runtime);
   return runtime.world().metrics(0);
 }
 
 TEST(StabilityMap, DefaultSettingsVaryOneParameterAtATime) {
   const scene::PreparedScene prepared = prepare(pressed_cube());
-  const std::vector<StabilitySetting> settings = default_stability_settings(prepared.description);
+  const std::vector<scene::StabilitySetting> settings =
+      scene::default_stability_settings(prepared.description);
   std::vector<std::string> names;
-  for (const StabilitySetting& s : settings) names.push_back(s.name());
+  for (const scene::StabilitySetting& s : settings) names.push_back(s.name());
   const std::vector<std::string> expected{"as given",
                                           "contact.stiffness = 250",
                                           "contact.stiffness = 4000",
@@ -66,7 +67,8 @@ TEST(StabilityMap, DefaultSettingsVaryOneParameterAtATime) {
   json["coupling"].erase("saturation_force");
   json["loop"]["rate_hz"] = 2000;
   names.clear();
-  for (const StabilitySetting& s : default_stability_settings(prepare(json).description)) {
+  for (const scene::StabilitySetting& s :
+       scene::default_stability_settings(prepare(json).description)) {
     names.push_back(s.name());
   }
   EXPECT_EQ(std::count_if(names.begin(), names.end(),
@@ -78,14 +80,14 @@ TEST(StabilityMap, DefaultSettingsVaryOneParameterAtATime) {
 
 TEST(StabilityMap, EachPointIsTheRunOfTheSceneWithThatKeyChanged) {
   scene::PreparedScene prepared = prepare(pressed_cube());
-  const std::vector<StabilitySetting> settings{
+  const std::vector<scene::StabilitySetting> settings{
       {.as_given = true},
-      {false, StabilityParameter::coupling_stiffness, 2000.0},
-      {false, StabilityParameter::rate, 2000.0},
-      {false, StabilityParameter::static_damping, 1.5}};
+      {false, scene::StabilityParameter::coupling_stiffness, 2000.0},
+      {false, scene::StabilityParameter::rate, 2000.0},
+      {false, scene::StabilityParameter::static_damping, 1.5}};
   std::vector<std::string> stages;
-  const std::vector<StabilityPoint> points =
-      stability_map(prepared, settings, 0.0, {}, [&](const reduced::Progress& progress) {
+  const std::vector<scene::StabilityPoint> points =
+      scene::stability_map(prepared, settings, 0.0, {}, [&](const reduced::Progress& progress) {
         if (progress.done == 0) stages.emplace_back(progress.stage);
         return true;
       });
@@ -99,7 +101,7 @@ TEST(StabilityMap, EachPointIsTheRunOfTheSceneWithThatKeyChanged) {
 
   // Against the scene file with the key changed, read and prepared anew: the same figures, to
   // the bit (simulated time without a time budget is reproducible).
-  const auto expect_point_is = [](const StabilityPoint& point, const nlohmann::json& json,
+  const auto expect_point_is = [](const scene::StabilityPoint& point, const nlohmann::json& json,
                                   double factor) {
     SCOPED_TRACE(point.setting.name());
     scene::PreparedScene reference = prepare(json);
@@ -111,9 +113,10 @@ TEST(StabilityMap, EachPointIsTheRunOfTheSceneWithThatKeyChanged) {
               static_cast<std::size_t>(std::lround(0.4 * reference.description.loop.rate_hz)));
     EXPECT_GT(point.peak_contact_force, 0.0) << "the cube is pressed";
     EXPECT_EQ(point.peak_contact_force, m.peak_contact_force);
-    EXPECT_EQ(point.contact_jump_p99, percent_of(m.contact_force_jump.p99, m.peak_contact_force));
+    EXPECT_EQ(point.contact_jump_p99,
+              scene::percent_of(m.contact_force_jump.p99, m.peak_contact_force));
     EXPECT_EQ(point.rendered_jump_p99,
-              percent_of(m.rendered_force_jump.p99, m.peak_rendered_force));
+              scene::percent_of(m.rendered_force_jump.p99, m.peak_rendered_force));
     EXPECT_EQ(point.deepest_voxels, m.deepest_penetration_voxels);
     EXPECT_EQ(point.lowest_energy, m.lowest_energy);
     EXPECT_TRUE(point.stable());
@@ -139,8 +142,8 @@ TEST(StabilityMap, ARateScalesTheLevelOfDetailBudgetWithThePeriod) {
   nlohmann::json json = pressed_cube();
   json["contact"]["degradation"] = {{"mode", "node_count"}, {"warm_threshold", 80}};
   scene::PreparedScene prepared = prepare(json);
-  const std::vector<StabilityPoint> points =
-      stability_map(prepared, {{.as_given = true}, {false, StabilityParameter::rate, 2000.0}}, 0.0);
+  const std::vector<scene::StabilityPoint> points = scene::stability_map(
+      prepared, {{.as_given = true}, {false, scene::StabilityParameter::rate, 2000.0}}, 0.0);
   ASSERT_EQ(points.size(), 2u);
   EXPECT_EQ(prepared.description.contact.degradation.warm_threshold, 80.0) << "restored";
 
@@ -150,7 +153,8 @@ TEST(StabilityMap, ARateScalesTheLevelOfDetailBudgetWithThePeriod) {
   scene::PreparedScene reference = prepare(faster);
   const haptic::CycleMetricsSummary m = run_metrics(reference);
   EXPECT_EQ(points[1].peak_contact_force, m.peak_contact_force);
-  EXPECT_EQ(points[1].contact_jump_p99, percent_of(m.contact_force_jump.p99, m.peak_contact_force));
+  EXPECT_EQ(points[1].contact_jump_p99,
+            scene::percent_of(m.contact_force_jump.p99, m.peak_contact_force));
   EXPECT_EQ(points[1].deepest_voxels, m.deepest_penetration_voxels);
   // Not what the unscaled budget gives: the threshold matters here.
   nlohmann::json unscaled = faster;
@@ -160,16 +164,16 @@ TEST(StabilityMap, ARateScalesTheLevelOfDetailBudgetWithThePeriod) {
 }
 
 TEST(StabilityMap, StableAndSmoothFollowTheirThresholds) {
-  StabilityPoint p;
+  scene::StabilityPoint p;
   EXPECT_TRUE(p.stable() && p.smooth());
-  p.contact_jump_p99 = smooth_jump_percent * 1.01;
+  p.contact_jump_p99 = scene::smooth_jump_percent * 1.01;
   EXPECT_TRUE(p.stable());
   EXPECT_FALSE(p.smooth());
   p.contact_jump_p99 = 0.0;
-  p.rendered_jump_p99 = smooth_jump_percent * 1.01;
+  p.rendered_jump_p99 = scene::smooth_jump_percent * 1.01;
   EXPECT_FALSE(p.smooth());
   p.rendered_jump_p99 = 0.0;
-  p.lowest_energy = -passive_tolerance * 1.01;
+  p.lowest_energy = -scene::passive_tolerance * 1.01;
   EXPECT_FALSE(p.stable() || p.smooth());
   p.lowest_energy = 0.0;
   p.finite = false;
@@ -178,10 +182,12 @@ TEST(StabilityMap, StableAndSmoothFollowTheirThresholds) {
 
 TEST(StabilityMap, ACancelStopsAndRestoresTheScene) {
   scene::PreparedScene prepared = prepare(pressed_cube());
-  const std::vector<StabilitySetting> settings{{false, StabilityParameter::rate, 4000.0}};
-  EXPECT_THROW(stability_map(prepared, settings, 0.0, {},
-                             [](const reduced::Progress& progress) { return progress.done < 100; }),
-               reduced::Cancelled);
+  const std::vector<scene::StabilitySetting> settings{
+      {false, scene::StabilityParameter::rate, 4000.0}};
+  EXPECT_THROW(
+      scene::stability_map(prepared, settings, 0.0, {},
+                           [](const reduced::Progress& progress) { return progress.done < 100; }),
+      reduced::Cancelled);
   EXPECT_EQ(prepared.description.loop.rate_hz, 1000.0);
   EXPECT_EQ(prepared.description.haptic.front().device.capabilities.nominal_rate, 1000.0);
 }

@@ -33,35 +33,35 @@ void report(const RunRequest& request, bool stability) {
   scene::SceneRuntime& runtime = session.runtime();
   // Where the run left the free objects, before the sweep moves them.
   std::vector<run::FreeBodyState> free_bodies = run::free_body_states(runtime);
-  const std::vector<run::SweepSetting> settings =
-      run::default_sweep(runtime.description().contact, run::tree_levels(runtime.prepared()));
+  const std::vector<scene::SweepSetting> settings =
+      scene::default_sweep(runtime.description().contact, scene::tree_levels(runtime.prepared()));
   std::cout << "speed against error: " << settings.size() << " settings over the states in "
             << "contact among the " << result.states.size() << " recorded (at most "
-            << run::default_sweep_states << ", evenly spaced)\n";
+            << scene::default_sweep_states << ", evenly spaced)\n";
   ProgressBar bar(std::cerr, ::isatty(STDERR_FILENO) == 1);
   const InterruptRequest interrupt;
-  const std::vector<run::SweepResult> sweep =
-      run::sweep_contact(runtime, result.states, settings, run::default_sweep_states,
-                         [&](const reduced::Progress& progress) {
-                           bar.update("replaying: " + std::string(progress.stage), progress);
-                           return !interrupt.requested();
-                         });
-  bar.clear();
-  std::cout << "replayed " << sweep.front().states << " states in contact under each setting\n";
-  std::vector<run::StabilityPoint> stability_points;
-  if (stability) {
-    const std::vector<run::StabilitySetting> runs =
-        run::default_stability_settings(session.prepared().description);
-    std::cout << "stability map: the scene run " << runs.size()
-              << " times, one parameter changed at a time (--no-stability skips it)\n";
-    stability_points =
-        run::stability_map(session.prepared(), runs, request.duration, session.devices(),
+  const std::vector<scene::SweepResult> sweep =
+      scene::sweep_contact(runtime, result.states, settings, scene::default_sweep_states,
                            [&](const reduced::Progress& progress) {
-                             bar.update("stability map: " + std::string(progress.stage), progress);
+                             bar.update("replaying: " + std::string(progress.stage), progress);
                              return !interrupt.requested();
                            });
+  bar.clear();
+  std::cout << "replayed " << sweep.front().states << " states in contact under each setting\n";
+  std::vector<scene::StabilityPoint> stability_points;
+  if (stability) {
+    const std::vector<scene::StabilitySetting> runs =
+        scene::default_stability_settings(session.prepared().description);
+    std::cout << "stability map: the scene run " << runs.size()
+              << " times, one parameter changed at a time (--no-stability skips it)\n";
+    stability_points = scene::stability_map(
+        session.prepared(), runs, request.duration, session.devices(),
+        [&](const reduced::Progress& progress) {
+          bar.update("stability map: " + std::string(progress.stage), progress);
+          return !interrupt.requested();
+        });
     bar.clear();
-    for (const run::StabilityPoint& point : stability_points) {
+    for (const scene::StabilityPoint& point : stability_points) {
       std::cout << "  " << point.setting.name() << ": "
                 << (!point.refused.empty() ? "refused (" + point.refused + ")"
                     : point.smooth()       ? "stable and smooth"

@@ -25,11 +25,11 @@ void add_prep_command(CLI::App& app);
 /// "shape:SPEC") to a surface mesh file, format by extension.
 void add_shape_command(CLI::App& app);
 /// `khz run SCENE [--trajectory FILE | --operator SCRIPT | --device NAME]`: prepares the scene
-/// and runs its haptic cycle in simulated time (run::run_scene()), writing cycles.csv and PNG
+/// and runs its haptic cycle in simulated time (scene::run_scene()), writing cycles.csv and PNG
 /// frames to the output directory and printing a summary.
 void add_run_command(CLI::App& app);
 /// `khz report SCENE [same options as run]`: runs the scene, replays its states in contact
-/// under every level of detail and time budget (run::sweep_contact()) and writes report.md with
+/// under every level of detail and time budget (scene::sweep_contact()) and writes report.md with
 /// plots (run::write_report()).
 void add_report_command(CLI::App& app);
 

@@ -2,8 +2,8 @@
 // trajectory.
 #include "describe_files.hpp"
 
-#include <khz/run/cycle_log.hpp>
-#include <khz/run/run_summary.hpp>
+#include <khz/scene/cycle_log.hpp>
+#include <khz/scene/run_summary.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -14,9 +14,9 @@ namespace khz::tool {
 namespace {
 
 void describe_cycle_log(const std::string& file) {
-  const std::vector<run::CycleRow> rows = run::read_cycle_csv(file);
+  const std::vector<scene::CycleRow> rows = scene::read_cycle_csv(file);
   const double period = rows.size() > 1 ? rows[1].time - rows[0].time : 0.0;
-  const run::RunSummary s = run::summarize(rows, period);
+  const scene::RunSummary s = scene::summarize(rows, period);
   info_line("kind") << "khz run cycle log (CSV)\n";
   info_line("cycles") << s.cycles << " (" << s.duration << " s at "
                       << (period > 0.0 ? 1.0 / period : 0.0) << " Hz), " << s.cycles_in_contact
@@ -39,7 +39,7 @@ void describe_csv_file(const std::string& file) {
   std::ifstream stream(file);
   std::string header;
   std::getline(stream, header);
-  if (run::is_cycle_csv_header(header)) {
+  if (scene::is_cycle_csv_header(header)) {
     describe_cycle_log(file);
   } else {
     describe_trajectory_file(file);

@@ -50,7 +50,7 @@ void describe_scene_file(const std::string& file);
 /// @throws reduced::Error saying the file is not a trajectory, with the reader's message, if
 ///         the CSV is something else.
 void describe_trajectory_file(const std::string& file);
-/// A `.csv`: a `khz run` cycle log (run::is_cycle_csv_header()): cycles, rate, µs
+/// A `.csv`: a `khz run` cycle log (scene::is_cycle_csv_header()): cycles, rate, µs
 /// per cycle and query, contact and force maxima, failed cycles; otherwise a device trajectory
 /// (describe_trajectory_file()) (describe_csv_file.cpp).
 void describe_csv_file(const std::string& file);

@@ -8,10 +8,10 @@
 #include <khz/run/frame_series.hpp>
 #include <khz/run/free_bodies.hpp>
 #include <khz/run/run_realtime.hpp>
-#include <khz/run/run_scene.hpp>
-#include <khz/run/run_summary.hpp>
 #include <khz/scene/make_device.hpp>
 #include <khz/scene/read_scene.hpp>
+#include <khz/scene/run_scene.hpp>
+#include <khz/scene/run_summary.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -38,8 +38,8 @@ run::DeviceChoice device_choice(const RunRequest& request) {
 }
 
 /// A run that produced non-finite values fails the command (after its logs are written).
-void require_finite(const std::vector<run::RunSummary>& summaries) {
-  for (const run::RunSummary& summary : summaries) {
+void require_finite(const std::vector<scene::RunSummary>& summaries) {
+  for (const scene::RunSummary& summary : summaries) {
     if (!summary.finite) throw reduced::Error("the run produced non-finite forces or poses");
   }
 }
@@ -147,11 +147,11 @@ RunResult SceneSession::run(bool record_states) {
   }
 
   const InterruptRequest interrupt;
-  run::RunOptions options;
+  scene::RunOptions options;
   options.duration = m_request.duration;
   options.frame_every = record_states || frame_every == 0 ? 1 : frame_every;
   options.on_frame = [&](int cycle, scene::SceneRuntime& runtime) {
-    if (record_states) result.states.push_back(run::record_state(runtime));
+    if (record_states) result.states.push_back(scene::record_state(runtime));
     if (renderer && cycle % frame_every == 0) {
       const run::FrameContent frame = run::capture_frame(runtime);
       result.frames.push_back(frame_file(frames, static_cast<int>(result.frames.size())));
@@ -163,11 +163,11 @@ RunResult SceneSession::run(bool record_states) {
 
   std::cout << "running " << m_request.scene << "\n";
   const auto start = std::chrono::steady_clock::now();
-  result.rows = run::run_scene(*m_runtime, options);
+  result.rows = scene::run_scene(*m_runtime, options);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.interrupted = interrupt.requested();
-  const std::vector<run::RunSummary> summaries = log_rows(result);
+  const std::vector<scene::RunSummary> summaries = log_rows(result);
   run::print_free_bodies(std::cout, run::free_body_states(*m_runtime));
   std::cout << "wall time: " << wall << " s" << (result.interrupted ? " (interrupted)" : "")
             << "\nwrote " << files_text(result.csv);
@@ -191,7 +191,7 @@ RunResult SceneSession::run_realtime() {
   RunResult result;
   result.rows = std::move(realtime.rows);
   result.interrupted = interrupt.requested();
-  const std::vector<run::RunSummary> summaries = log_rows(result);
+  const std::vector<scene::RunSummary> summaries = log_rows(result);
   run::print_free_bodies(std::cout, run::free_body_states(*m_runtime));
   const haptic::LoopStatistics& loop = realtime.loop;
   std::cout << "loop: " << loop.cycles << " cycles, " << loop.deadline_misses
@@ -203,21 +203,21 @@ RunResult SceneSession::run_realtime() {
   return result;
 }
 
-std::vector<run::RunSummary> SceneSession::log_rows(RunResult& result) const {
-  std::vector<run::RunSummary> summaries;
+std::vector<scene::RunSummary> SceneSession::log_rows(RunResult& result) const {
+  std::vector<scene::RunSummary> summaries;
   const double period = 1.0 / m_prepared.description.loop.rate_hz;
   const std::size_t hands = result.rows.size();
   for (std::size_t h = 0; h < hands; ++h) {
     result.csv.push_back(h == 0 ? m_out / "cycles.csv"
                                 : m_out / ("cycles_hand" + std::to_string(h) + ".csv"));
-    run::write_cycle_csv(result.rows[h], result.csv.back());
+    scene::write_cycle_csv(result.rows[h], result.csv.back());
     if (hands > 1) {
       const scene::HapticDescription& hand = m_prepared.description.haptic[h];
       std::cout << "hand " << h << " (" << hand.object << "):\n";
     }
-    summaries.push_back(run::summarize(result.rows[h], period));
+    summaries.push_back(scene::summarize(result.rows[h], period));
     summaries.back().metrics = m_runtime->world().metrics(static_cast<int>(h));
-    run::print_summary(std::cout, summaries.back());
+    scene::print_summary(std::cout, summaries.back());
   }
   return summaries;
 }

@@ -32,11 +32,12 @@ bool HeldStillDevice::read(haptic::DeviceState& state) noexcept {
   return true;
 }
 
-SteadyPress steady_press(const scene::PreparedScene& prepared, const std::vector<CycleRow>& run,
-                         double seconds) {
-  const auto strongest = std::max_element(
-      run.begin(), run.end(),
-      [](const CycleRow& a, const CycleRow& b) { return a.force.norm() < b.force.norm(); });
+SteadyPress steady_press(const scene::PreparedScene& prepared,
+                         const std::vector<scene::CycleRow>& run, double seconds) {
+  const auto strongest = std::max_element(run.begin(), run.end(),
+                                          [](const scene::CycleRow& a, const scene::CycleRow& b) {
+                                            return a.force.norm() < b.force.norm();
+                                          });
   if (strongest == run.end() || !(strongest->force.norm() > 0.0)) {
     throw reduced::Error("steady_press: the run given has no contact to press on");
   }
@@ -50,9 +51,9 @@ SteadyPress steady_press(const scene::PreparedScene& prepared, const std::vector
     devices.push_back(held.back().get());
   }
   scene::SceneRuntime still(prepared, devices);
-  RunOptions options;
+  scene::RunOptions options;
   options.duration = press.hold_time + seconds;
-  press.rows = run_scene(still, options);
+  press.rows = scene::run_scene(still, options);
   for (int h = 0; h < still.hand_count(); ++h) press.metrics.push_back(still.world().metrics(h));
   return press;
 }

@@ -1,6 +1,6 @@
 #include <khz/haptic/loop/haptic_loop.hpp>
 #include <khz/run/run_realtime.hpp>
-#include <khz/run/run_scene.hpp>
+#include <khz/scene/run_scene.hpp>
 
 #include <atomic>
 #include <chrono>
@@ -10,11 +10,11 @@ namespace khz::run {
 
 RealtimeRun run_scene_realtime(scene::SceneRuntime& runtime, double duration,
                                const std::function<bool()>& stop_requested) {
-  const std::size_t cycles = run_cycles(runtime, duration);
+  const std::size_t cycles = scene::run_cycles(runtime, duration);
   const haptic::LoopOptions& options = runtime.description().loop;
   RealtimeRun run;
   run.rows.resize(static_cast<std::size_t>(runtime.hand_count()));
-  for (std::vector<CycleRow>& hand : run.rows) hand.reserve(cycles);
+  for (std::vector<scene::CycleRow>& hand : run.rows) hand.reserve(cycles);
   std::atomic<bool> done{false};
 
   haptic::HapticLoop loop(options);
@@ -35,7 +35,7 @@ RealtimeRun run_scene_realtime(scene::SceneRuntime& runtime, double duration,
         world.cycle(clock.time, clock.time + clock.period, [&] { return clock.time + elapsed(); });
     const double us = 1e6 * elapsed();
     for (std::size_t h = 0; h < records.size(); ++h) {
-      run.rows[h].push_back(CycleRow::from(records[h], us));
+      run.rows[h].push_back(scene::CycleRow::from(records[h], us));
     }
   });
   while (!done.load(std::memory_order_acquire) && !(stop_requested && stop_requested()) &&

@@ -17,10 +17,10 @@ std::string format(const char* pattern, double value) {
   return text;
 }
 
-plot::Series over_time(const std::vector<CycleRow>& rows, std::string label, render::Color color,
-                       double (*value)(const CycleRow&)) {
+plot::Series over_time(const std::vector<scene::CycleRow>& rows, std::string label,
+                       render::Color color, double (*value)(const scene::CycleRow&)) {
   plot::Series series{std::move(label), {}, {}, color, false};
-  for (const CycleRow& row : rows) {
+  for (const scene::CycleRow& row : rows) {
     series.x.push_back(row.time);
     series.y.push_back(value(row));
   }
@@ -28,8 +28,9 @@ plot::Series over_time(const std::vector<CycleRow>& rows, std::string label, ren
 }
 
 /// |value(row k) − value(row k−1)| over time, from the second row.
-plot::Series jumps_over_time(const std::vector<CycleRow>& rows, std::string label,
-                             render::Color color, Eigen::Vector3d (*value)(const CycleRow&)) {
+plot::Series jumps_over_time(const std::vector<scene::CycleRow>& rows, std::string label,
+                             render::Color color,
+                             Eigen::Vector3d (*value)(const scene::CycleRow&)) {
   plot::Series series{std::move(label), {}, {}, color, false};
   for (std::size_t k = 1; k < rows.size(); ++k) {
     series.x.push_back(rows[k].time);
@@ -46,7 +47,7 @@ void write_metrics(std::ostream& out, const haptic::CycleMetricsSummary& m,
                        double peak) {
     out << "| " << name << " | " << format("%.3g", scale * q.p50) << " | "
         << format("%.3g", scale * q.p99) << " | " << format("%.3g", scale * q.max) << " " << unit
-        << " | " << (peak > 0.0 ? format("%.1f %%", percent_of(q.p99, peak)) : "–") << " | "
+        << " | " << (peak > 0.0 ? format("%.1f %%", scene::percent_of(q.p99, peak)) : "–") << " | "
         << q.count << " |\n";
   };
   out << "## Smoothness, steadiness and passivity\n\n"
@@ -74,18 +75,18 @@ void write_metrics(std::ostream& out, const haptic::CycleMetricsSummary& m,
 }
 
 /// The stability map's section: one row a setting, then the plot.
-void write_stability(std::ostream& out, const std::vector<StabilityPoint>& points,
+void write_stability(std::ostream& out, const std::vector<scene::StabilityPoint>& points,
                      const ReportFiles& files) {
   out << "## Stability map\n\n"
       << "The scene run again with one parameter changed at a time. Stable: every value finite "
          "and the passivity observer never below "
-      << format("%.3g", -passive_tolerance)
+      << format("%.3g", -scene::passive_tolerance)
       << " J. Smooth: stable, with contact- and rendered-force jump p99 at most "
-      << format("%.0f", smooth_jump_percent) << " % of their peaks.\n\n"
+      << format("%.0f", scene::smooth_jump_percent) << " % of their peaks.\n\n"
       << "| setting | stable | smooth | contact jump p99 | rendered jump p99 | peak contact | "
          "deepest | observer lowest | still step p99 |\n"
          "|---|---|---|---|---|---|---|---|---|\n";
-  for (const StabilityPoint& p : points) {
+  for (const scene::StabilityPoint& p : points) {
     out << "| " << p.setting.name() << " | ";
     if (!p.refused.empty()) {
       out << "refused: " << p.refused << " | | | | | | | |\n";
@@ -103,28 +104,29 @@ void write_stability(std::ostream& out, const std::vector<StabilityPoint>& point
 
 /// Contact-force jump p99 against value ÷ the scene's value, one series a parameter, the
 /// unstable points marked apart, and the 5 % target.
-void plot_stability(const std::filesystem::path& file, const std::vector<StabilityPoint>& points) {
+void plot_stability(const std::filesystem::path& file,
+                    const std::vector<scene::StabilityPoint>& points) {
   constexpr render::Color purple{148, 103, 189}, red{214, 39, 40}, grey{127, 127, 127};
   std::vector<plot::Series> series;
-  const std::pair<StabilityParameter, render::Color> parameters[] = {
-      {StabilityParameter::contact_stiffness, blue},
-      {StabilityParameter::coupling_stiffness, orange},
-      {StabilityParameter::saturation_force, green},
-      {StabilityParameter::static_damping, purple},
-      {StabilityParameter::rate, grey}};
+  const std::pair<scene::StabilityParameter, render::Color> parameters[] = {
+      {scene::StabilityParameter::contact_stiffness, blue},
+      {scene::StabilityParameter::coupling_stiffness, orange},
+      {scene::StabilityParameter::saturation_force, green},
+      {scene::StabilityParameter::static_damping, purple},
+      {scene::StabilityParameter::rate, grey}};
   double as_given = 0.0;
-  for (const StabilityPoint& p : points) {
+  for (const scene::StabilityPoint& p : points) {
     if (p.setting.as_given) as_given = p.contact_jump_p99;
   }
   for (const auto& [parameter, color] : parameters) {
     std::vector<std::pair<double, double>> line{{1.0, as_given}};
-    for (const StabilityPoint& p : points) {
+    for (const scene::StabilityPoint& p : points) {
       if (p.setting.as_given || p.setting.parameter != parameter || !p.refused.empty()) continue;
       line.emplace_back(p.factor, p.contact_jump_p99);
     }
     if (line.size() < 2) continue;
     std::sort(line.begin(), line.end());
-    plot::Series curve{std::string(parameter_key(parameter)), {}, {}, color, true};
+    plot::Series curve{std::string(scene::parameter_key(parameter)), {}, {}, color, true};
     for (const auto& [x, y] : line) {
       curve.x.push_back(x);
       curve.y.push_back(y);
@@ -132,13 +134,17 @@ void plot_stability(const std::filesystem::path& file, const std::vector<Stabili
     series.push_back(std::move(curve));
   }
   plot::Series unstable{"unstable", {}, {}, red, true};
-  for (const StabilityPoint& p : points) {
+  for (const scene::StabilityPoint& p : points) {
     if (!p.refused.empty() || p.stable()) continue;
     unstable.x.push_back(p.factor);
     unstable.y.push_back(p.contact_jump_p99);
   }
   if (!unstable.x.empty()) series.push_back(std::move(unstable));
-  series.push_back({"target", {0.25, 4.0}, {smooth_jump_percent, smooth_jump_percent}, red, false});
+  series.push_back({"target",
+                    {0.25, 4.0},
+                    {scene::smooth_jump_percent, scene::smooth_jump_percent},
+                    red,
+                    false});
   plot::write_line_plot(
       file,
       {"Stability map: one parameter changed at a time", "value / the scene's value",
@@ -147,7 +153,7 @@ void plot_stability(const std::filesystem::path& file, const std::vector<Stabili
 }
 
 void write_markdown(const std::filesystem::path& file, const ReportInput& input,
-                    const RunSummary& s, const ReportFiles& files) {
+                    const scene::RunSummary& s, const ReportFiles& files) {
   std::ofstream out(file);
   if (!out) throw reduced::IoError("cannot write " + file.string());
   out << "# Run report: " << input.scene << "\n\n";
@@ -195,12 +201,12 @@ void write_markdown(const std::filesystem::path& file, const ReportInput& input,
   if (!input.sweep.empty()) {
     out << "## Speed against error of the contact query\n\n"
         << "The recorded states in contact (" << input.sweep.front().states
-        << ", evenly spaced when there were more than " << default_sweep_states
+        << ", evenly spaced when there were more than " << scene::default_sweep_states
         << "), queried again under each setting "
            "(temporal coherence off) and compared with the full traversal.\n\n"
         << "| setting | µs mean | µs p99 | nodes | force error (RMS) | force error (max) | "
            "torque error (RMS) |\n|---|---|---|---|---|---|---|\n";
-    for (const SweepResult& r : input.sweep) {
+    for (const scene::SweepResult& r : input.sweep) {
       out << "| " << r.name << " | " << format("%.1f", r.query_us.mean) << " | "
           << format("%.1f", r.query_us.p99) << " | " << format("%.0f", r.mean_nodes) << " | "
           << format("%.2f %%", 100.0 * r.force_error) << " | "
@@ -233,35 +239,39 @@ ReportFiles write_report(const std::filesystem::path& directory, const ReportInp
                     directory / "energy.png",
                     {},
                     {}};
-  const std::vector<CycleRow>& rows = input.rows;
-  plot::write_line_plot(
-      files.force_plot, {"Force on the held object", "time (s)", "force (N)"},
-      {over_time(rows, "contact |F|", blue, [](const CycleRow& r) { return r.force.norm(); }),
-       over_time(rows, "rendered |F|", orange,
-                 [](const CycleRow& r) { return r.rendered_force.norm(); })});
+  const std::vector<scene::CycleRow>& rows = input.rows;
+  plot::write_line_plot(files.force_plot, {"Force on the held object", "time (s)", "force (N)"},
+                        {over_time(rows, "contact |F|", blue,
+                                   [](const scene::CycleRow& r) { return r.force.norm(); }),
+                         over_time(rows, "rendered |F|", orange, [](const scene::CycleRow& r) {
+                           return r.rendered_force.norm();
+                         })});
   plot::write_line_plot(
       files.torque_plot, {"Torque on the held object", "time (s)", "torque (N m)"},
-      {over_time(rows, "contact |T|", blue, [](const CycleRow& r) { return r.torque.norm(); }),
+      {over_time(rows, "contact |T|", blue,
+                 [](const scene::CycleRow& r) { return r.torque.norm(); }),
        over_time(rows, "rendered |T|", orange,
-                 [](const CycleRow& r) { return r.rendered_torque.norm(); })});
+                 [](const scene::CycleRow& r) { return r.rendered_torque.norm(); })});
   plot::write_line_plot(
       files.cost_plot, {"Cost per cycle", "time (s)", "microseconds"},
-      {over_time(rows, "whole cycle", blue, [](const CycleRow& r) { return r.cycle_us; }),
-       over_time(rows, "contact query", orange, [](const CycleRow& r) { return r.query_us; })});
+      {over_time(rows, "whole cycle", blue, [](const scene::CycleRow& r) { return r.cycle_us; }),
+       over_time(rows, "contact query", orange,
+                 [](const scene::CycleRow& r) { return r.query_us; })});
   plot::write_line_plot(
       files.jump_plot, {"Force jumps between cycles", "time (s)", "|F(k) - F(k-1)| (N)"},
-      {jumps_over_time(rows, "contact", blue, [](const CycleRow& r) { return r.force; }),
+      {jumps_over_time(rows, "contact", blue, [](const scene::CycleRow& r) { return r.force; }),
        jumps_over_time(rows, "rendered", orange,
-                       [](const CycleRow& r) { return r.rendered_force; })});
-  plot::write_line_plot(
-      files.energy_plot, {"Passivity observer: energy the hand put in", "time (s)", "energy (J)"},
-      {over_time(rows, "observed energy", blue, [](const CycleRow& r) { return r.energy; })});
+                       [](const scene::CycleRow& r) { return r.rendered_force; })});
+  plot::write_line_plot(files.energy_plot,
+                        {"Passivity observer: energy the hand put in", "time (s)", "energy (J)"},
+                        {over_time(rows, "observed energy", blue,
+                                   [](const scene::CycleRow& r) { return r.energy; })});
   if (!input.sweep.empty()) {
     files.speed_plot = directory / "speed_vs_error.png";
     plot::Series levels{"fixed levels", {}, {}, blue, true};
     plot::Series budgets{"time budgets", {}, {}, orange, true};
     for (std::size_t i = 1; i < input.sweep.size(); ++i) {
-      const SweepResult& r = input.sweep[i];
+      const scene::SweepResult& r = input.sweep[i];
       plot::Series& series = r.name.rfind("level", 0) == 0 ? levels : budgets;
       series.x.push_back(r.query_us.mean);
       series.y.push_back(100.0 * r.force_error);
@@ -277,7 +287,7 @@ ReportFiles write_report(const std::filesystem::path& directory, const ReportInp
     files.stability_plot = directory / "stability.png";
     plot_stability(files.stability_plot, input.stability);
   }
-  write_markdown(files.markdown, input, summarize(rows, 1.0 / input.rate_hz), files);
+  write_markdown(files.markdown, input, scene::summarize(rows, 1.0 / input.rate_hz), files);
   return files;
 }
 

@@ -4,8 +4,8 @@
 
 #include <khz/haptic/device/device.hpp>
 #include <khz/haptic/world/cycle_metrics.hpp>
-#include <khz/run/run_scene.hpp>
 #include <khz/scene/prepared_scene.hpp>
+#include <khz/scene/run_scene.hpp>
 
 #include <cstdint>
 #include <memory>
@@ -41,7 +41,7 @@ class HeldStillDevice final : public haptic::Device {
 /// A steady press and what it showed.
 struct SteadyPress {
   double hold_time = 0.0;  ///< s: the cycle of hand 0's largest contact force in the run given.
-  HandRows rows;           ///< The pressed run's rows, one list per hand.
+  scene::HandRows rows;    ///< The pressed run's rows, one list per hand.
   /// Each hand's metrics over the pressed run (haptic::World::metrics()).
   std::vector<haptic::CycleMetricsSummary> metrics;
 };
@@ -50,7 +50,7 @@ struct SteadyPress {
 /// (HeldStillDevice) from the cycle of hand 0's largest contact force in `run` (hand 0's rows of
 /// an earlier run of the scene), for `seconds` after it.
 /// @throws reduced::Error if `run` has no contact, or as scene::make_device() and run_scene().
-SteadyPress steady_press(const scene::PreparedScene& prepared, const std::vector<CycleRow>& run,
-                         double seconds);
+SteadyPress steady_press(const scene::PreparedScene& prepared,
+                         const std::vector<scene::CycleRow>& run, double seconds);
 
 }  // namespace khz::run

@@ -3,7 +3,7 @@
 // rate, priority and CPU, as a hardware device needs it.
 
 #include <khz/haptic/loop/loop_statistics.hpp>
-#include <khz/run/run_scene.hpp>
+#include <khz/scene/run_scene.hpp>
 #include <khz/scene/scene_runtime.hpp>
 
 #include <functional>
@@ -14,7 +14,7 @@ namespace khz::run {
 
 /// What a real-time run did.
 struct RealtimeRun {
-  HandRows rows;                      ///< Per hand, one per cycle run, in order.
+  scene::HandRows rows;               ///< Per hand, one per cycle run, in order.
   haptic::LoopStatistics loop;        ///< The loop's timing: work, lateness, deadline misses.
   std::vector<std::string> warnings;  ///< The loop's (e.g. real-time priority refused).
 };

@@ -4,11 +4,11 @@
 // force, torque, force jumps, the passivity observer, per-cycle cost, speed against error and
 // stability.
 
-#include <khz/run/contact_sweep.hpp>
-#include <khz/run/cycle_log.hpp>
 #include <khz/run/free_bodies.hpp>
-#include <khz/run/run_summary.hpp>
-#include <khz/run/stability_map.hpp>
+#include <khz/scene/contact_sweep.hpp>
+#include <khz/scene/cycle_log.hpp>
+#include <khz/scene/run_summary.hpp>
+#include <khz/scene/stability_map.hpp>
 
 #include <filesystem>
 #include <string>
@@ -21,12 +21,13 @@ struct ReportInput {
   std::string scene;        ///< The scene file as named.
   std::string description;  ///< The scene's description text.
   double rate_hz = 1000.0;  ///< The loop's rate.
-  std::vector<CycleRow> rows;
+  std::vector<scene::CycleRow> rows;
   /// The runtime's figures for the same hand (haptic::World::metrics() after the run).
   haptic::CycleMetricsSummary metrics;
-  std::vector<SweepResult> sweep;  ///< First entry: the reference (may be empty: no contact).
+  std::vector<scene::SweepResult>
+      sweep;  ///< First entry: the reference (may be empty: no contact).
   /// The stability map (may be empty: not run); the first point is the scene as given.
-  std::vector<StabilityPoint> stability;
+  std::vector<scene::StabilityPoint> stability;
   /// Frame pictures to show, relative to the report's directory.
   std::vector<std::filesystem::path> frames;
   /// Where the run left the scene's free objects (empty: none).

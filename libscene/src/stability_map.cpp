@@ -1,14 +1,14 @@
-#include <khz/run/stability_map.hpp>
+#include <khz/scene/stability_map.hpp>
 
 #include <khz/reduced/stage_progress.hpp>
-#include <khz/run/run_scene.hpp>
-#include <khz/run/run_summary.hpp>
+#include <khz/scene/run_scene.hpp>
+#include <khz/scene/run_summary.hpp>
 #include <khz/scene/scene_runtime.hpp>
 
 #include <cmath>
 #include <sstream>
 
-namespace khz::run {
+namespace khz::scene {
 namespace {
 
 /// Where `parameter` lives in a SceneDescription (const or not): the key's field, the rate's
@@ -33,7 +33,7 @@ auto& field_of(Scene& scene, StabilityParameter parameter) noexcept {
 /// Sets one parameter in `scene` as the scene reader would have from the key.
 /// A new rate also scales the level-of-detail budget with the period (a time budget, or a node
 /// count standing for one), as a user changing the rate would: the same share of each cycle.
-void apply(const StabilitySetting& setting, scene::SceneDescription& scene) {
+void apply(const StabilitySetting& setting, SceneDescription& scene) {
   if (setting.as_given) return;
   const double given_rate = scene.loop.rate_hz;
   field_of(scene, setting.parameter) = setting.value;
@@ -44,10 +44,10 @@ void apply(const StabilitySetting& setting, scene::SceneDescription& scene) {
   // What read_scene() derives from loop.rate_hz: the coupling's period and every device's rate
   // (a simulated operator checks it can integrate at it).
   scene.coupling.period = 1.0 / setting.value;
-  for (scene::HapticDescription& hand : scene.haptic) {
+  for (HapticDescription& hand : scene.haptic) {
     hand.device.capabilities.nominal_rate = setting.value;
     hand.device.simulated_operator.capabilities.nominal_rate = setting.value;
-    if (hand.device.type == scene::DeviceType::simulated_operator) {
+    if (hand.device.type == DeviceType::simulated_operator) {
       hand.device.simulated_operator.validate();
     }
   }
@@ -56,15 +56,15 @@ void apply(const StabilitySetting& setting, scene::SceneDescription& scene) {
 /// Puts prepared.description back however the run ends.
 class RestoreDescription {
  public:
-  explicit RestoreDescription(scene::PreparedScene& prepared)
+  explicit RestoreDescription(PreparedScene& prepared)
       : m_prepared(prepared), m_saved(prepared.description) {}
   ~RestoreDescription() { m_prepared.description = m_saved; }
   RestoreDescription(const RestoreDescription&) = delete;
   RestoreDescription& operator=(const RestoreDescription&) = delete;
 
  private:
-  scene::PreparedScene& m_prepared;
-  scene::SceneDescription m_saved;
+  PreparedScene& m_prepared;
+  SceneDescription m_saved;
 };
 
 }  // namespace
@@ -101,7 +101,7 @@ bool StabilityPoint::smooth() const noexcept {
          rendered_jump_p99 <= smooth_jump_percent;
 }
 
-std::vector<StabilitySetting> default_stability_settings(const scene::SceneDescription& scene) {
+std::vector<StabilitySetting> default_stability_settings(const SceneDescription& scene) {
   std::vector<StabilitySetting> settings{{.as_given = true}};
   const auto scaled = [&](StabilityParameter parameter, double given) {
     if (!std::isfinite(given)) return;  // e.g. no saturation: nothing to scale
@@ -123,13 +123,13 @@ std::vector<StabilitySetting> default_stability_settings(const scene::SceneDescr
   return settings;
 }
 
-std::vector<StabilityPoint> stability_map(scene::PreparedScene& prepared,
+std::vector<StabilityPoint> stability_map(PreparedScene& prepared,
                                           const std::vector<StabilitySetting>& settings,
                                           double duration,
-                                          const std::vector<scene::DeviceDescription>& devices,
+                                          const std::vector<DeviceDescription>& devices,
                                           const reduced::ProgressCallback& progress) {
   const RestoreDescription restore(prepared);
-  scene::SceneDescription given = prepared.description;
+  SceneDescription given = prepared.description;
   if (!devices.empty()) {
     if (devices.size() != given.haptic.size()) {
       throw reduced::Error("stability_map: " + std::to_string(devices.size()) +
@@ -144,10 +144,10 @@ std::vector<StabilityPoint> stability_map(scene::PreparedScene& prepared,
     point.setting = setting;
     if (!setting.as_given) point.factor = setting.value / field_of(given, setting.parameter);
     prepared.description = given;
-    std::unique_ptr<scene::SceneRuntime> runtime;
+    std::unique_ptr<SceneRuntime> runtime;
     try {
       apply(setting, prepared.description);
-      runtime = std::make_unique<scene::SceneRuntime>(prepared);
+      runtime = std::make_unique<SceneRuntime>(prepared);
     } catch (const reduced::Error& error) {
       point.refused = error.what();
       points.push_back(point);
@@ -159,7 +159,7 @@ std::vector<StabilityPoint> stability_map(scene::PreparedScene& prepared,
     RunOptions options;
     options.duration = duration;
     options.frame_every = std::max(1, static_cast<int>(prepared.description.loop.rate_hz / 20.0));
-    options.on_frame = [&](int cycle, scene::SceneRuntime&) {
+    options.on_frame = [&](int cycle, SceneRuntime&) {
       if (cycle > stage.done()) stage.advance(cycle - stage.done());
       return true;
     };
@@ -181,4 +181,4 @@ std::vector<StabilityPoint> stability_map(scene::PreparedScene& prepared,
   return points;
 }
 
-}  // namespace khz::run
+}  // namespace khz::scene

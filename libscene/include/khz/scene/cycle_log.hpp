@@ -3,6 +3,7 @@
 // `khz info`).
 
 #include <khz/haptic/world/cycle_record.hpp>
+#include <khz/scene/export.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -10,13 +11,14 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
-namespace khz::run {
+namespace khz::scene {
 
 /// One haptic cycle as logged. Forces are world axes; the torque is about the held object's
 /// grasp point.
-struct CycleRow {
+struct KHZ_SCENE_API CycleRow {
   double time = 0.0;                                 ///< s, the cycle's start.
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< Contact force on the held object (N).
   Eigen::Vector3d torque = Eigen::Vector3d::Zero();  ///< Contact torque (N·m).
@@ -48,22 +50,28 @@ struct CycleRow {
 /// rendered_force_x … rendered_torque_z, nodes, skipped, contacts, level, complete, query_us,
 /// cycle_us, manipulandum_x … z, simulation_x … z, orientation_w, _x, _y, _z, ok, penetration,
 /// penetration_voxels, residual_force, energy, sliding.
-std::string cycle_csv_header();
+KHZ_SCENE_API std::string cycle_csv_header();
 
 /// Whether `line` is the header of a cycle log read_cycle_csv() reads: cycle_csv_header(), or
 /// that of an earlier version without the last column (sliding: 0 when read) or the last five.
-bool is_cycle_csv_header(const std::string& line);
+KHZ_SCENE_API bool is_cycle_csv_header(const std::string& line);
 
 /// Writes the rows as CSV (header first; each number as the shortest text that reads back to
 /// the same double, so read_cycle_csv() returns the rows exactly).
 /// @throws reduced::IoError naming the file if it cannot be written.
-void write_cycle_csv(const std::vector<CycleRow>& rows, const std::filesystem::path& file);
+KHZ_SCENE_API void write_cycle_csv(const std::vector<CycleRow>& rows,
+                                   const std::filesystem::path& file);
 
 /// Reads a file write_cycle_csv() wrote.
 /// Logs of earlier versions, without the last four columns, read with those fields zero.
 /// @throws reduced::IoError if it cannot be read; reduced::ParseError (file:line) if the
 ///         header is not cycle_csv_header() (or the earlier one) or a row does not have its
 ///         columns as numbers.
-std::vector<CycleRow> read_cycle_csv(const std::filesystem::path& file);
+KHZ_SCENE_API std::vector<CycleRow> read_cycle_csv(const std::filesystem::path& file);
 
-}  // namespace khz::run
+/// read_cycle_csv() on text in memory; `source` names it in messages (for fuzzers and tests).
+/// @throws reduced::ParseError as read_cycle_csv().
+KHZ_SCENE_API std::vector<CycleRow> parse_cycle_csv(std::string_view data,
+                                                    const std::string& source);
+
+}  // namespace khz::scene

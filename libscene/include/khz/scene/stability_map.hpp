@@ -6,12 +6,13 @@
 
 #include <khz/haptic/world/cycle_metrics.hpp>
 #include <khz/reduced/progress.hpp>
+#include <khz/scene/export.hpp>
 #include <khz/scene/prepared_scene.hpp>
 
 #include <string>
 #include <vector>
 
-namespace khz::run {
+namespace khz::scene {
 
 /// The parameters a stability map varies.
 enum class StabilityParameter {
@@ -25,11 +26,11 @@ enum class StabilityParameter {
 };
 
 /// The scene key a parameter is set by, e.g. "coupling.stiffness".
-std::string_view parameter_key(StabilityParameter parameter) noexcept;
+KHZ_SCENE_API std::string_view parameter_key(StabilityParameter parameter) noexcept;
 
 /// One run of the map: the scene with one parameter at `value` (the scene's own values when
 /// `as_given`).
-struct StabilitySetting {
+struct KHZ_SCENE_API StabilitySetting {
   bool as_given = false;
   StabilityParameter parameter = StabilityParameter::contact_stiffness;
   double value = 0.0;
@@ -38,7 +39,7 @@ struct StabilitySetting {
 };
 
 /// What one run showed. Relative figures are of the run's own peaks.
-struct StabilityPoint {
+struct KHZ_SCENE_API StabilityPoint {
   StabilitySetting setting;
   /// Non-empty when the libraries refused the setting (e.g. k_VC above the device's stiffness
   /// limit, a simulated operator that cannot run at that rate): their message; nothing ran.
@@ -72,7 +73,8 @@ inline constexpr double smooth_jump_percent = 5.0;
 /// The settings `khz report` maps for `scene`: as given; contact and coupling stiffness and
 /// saturation (when the scene sets one) × 1/4 and × 4; static damping 0.2 and 0.9; rates 500,
 /// 1000, 2000 and 4000 Hz (each value the scene does not already have).
-std::vector<StabilitySetting> default_stability_settings(const scene::SceneDescription& scene);
+KHZ_SCENE_API std::vector<StabilitySetting> default_stability_settings(
+    const SceneDescription& scene);
 
 /// Runs `prepared` once per setting for `duration` simulated seconds (0: the scene's own, as
 /// run_scene()), each time on a fresh SceneRuntime with the setting applied to
@@ -81,10 +83,9 @@ std::vector<StabilitySetting> default_stability_settings(const scene::SceneDescr
 /// stage a setting, named after it, in cycles.
 /// @throws reduced::Error as run_scene() (no duration), or if `devices` is neither empty nor
 ///         one per hand; reduced::Cancelled if `progress` returns false.
-std::vector<StabilityPoint> stability_map(scene::PreparedScene& prepared,
-                                          const std::vector<StabilitySetting>& settings,
-                                          double duration = 0.0,
-                                          const std::vector<scene::DeviceDescription>& devices = {},
-                                          const reduced::ProgressCallback& progress = {});
+KHZ_SCENE_API std::vector<StabilityPoint> stability_map(
+    PreparedScene& prepared, const std::vector<StabilitySetting>& settings, double duration = 0.0,
+    const std::vector<DeviceDescription>& devices = {},
+    const reduced::ProgressCallback& progress = {});
 
-}  // namespace khz::run
+}  // namespace khz::scene

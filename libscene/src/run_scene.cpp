@@ -1,23 +1,23 @@
-#include <khz/run/run_scene.hpp>
+#include <khz/scene/run_scene.hpp>
 
 #include <chrono>
 #include <cmath>
 
-namespace khz::run {
+namespace khz::scene {
 namespace {
 
 /// Closes the devices however the run ends.
 struct OpenDevices {
-  explicit OpenDevices(scene::SceneRuntime& opened) : runtime(opened) { runtime.open_devices(); }
+  explicit OpenDevices(SceneRuntime& opened) : runtime(opened) { runtime.open_devices(); }
   ~OpenDevices() { runtime.close_devices(); }
   OpenDevices(const OpenDevices&) = delete;
   OpenDevices& operator=(const OpenDevices&) = delete;
-  scene::SceneRuntime& runtime;
+  SceneRuntime& runtime;
 };
 
 }  // namespace
 
-std::size_t run_cycles(const scene::SceneRuntime& runtime, double duration) {
+std::size_t run_cycles(const SceneRuntime& runtime, double duration) {
   const double seconds = duration > 0.0 ? duration : runtime.natural_duration();
   if (!(seconds > 0.0) || !std::isfinite(seconds)) {
     throw reduced::Error(
@@ -27,7 +27,7 @@ std::size_t run_cycles(const scene::SceneRuntime& runtime, double duration) {
   return static_cast<std::size_t>(std::ceil(seconds * runtime.description().loop.rate_hz - 1e-9));
 }
 
-HandRows run_scene(scene::SceneRuntime& runtime, const RunOptions& options) {
+HandRows run_scene(SceneRuntime& runtime, const RunOptions& options) {
   const std::size_t cycles = run_cycles(runtime, options.duration);
   if (options.frame_every < 1) throw reduced::Error("RunOptions::frame_every must be >= 1");
   const double period = 1.0 / runtime.description().loop.rate_hz;
@@ -55,4 +55,4 @@ HandRows run_scene(scene::SceneRuntime& runtime, const RunOptions& options) {
   return rows;
 }
 
-}  // namespace khz::run
+}  // namespace khz::scene

@@ -1,14 +1,16 @@
 #include <khz/reduced/errors.hpp>
-#include <khz/run/cycle_log.hpp>
+#include <khz/scene/cycle_log.hpp>
 
+#include <algorithm>
 #include <array>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string_view>
 
-namespace khz::run {
+namespace khz::scene {
 namespace {
 
 constexpr int column_count = 36;
@@ -57,6 +59,11 @@ std::array<double, column_count> columns(const CycleRow& row) {
           row.energy,
           d(row.sliding)};
 }
+
+/// The columns holding counts and the level (nodes, skipped, contacts, level, sliding), and the
+/// largest magnitude they may hold: the level is an int.
+constexpr std::array<int, 5> integer_columns{13, 14, 15, 16, column_count - 1};
+constexpr double largest_integer = 2147483647.0;
 
 CycleRow from_columns(const std::array<double, column_count>& c) {
   const auto i64 = [](double v) { return static_cast<std::int64_t>(v); };
@@ -155,12 +162,19 @@ void write_cycle_csv(const std::vector<CycleRow>& rows, const std::filesystem::p
   if (!out) throw reduced::IoError("cannot write " + file.string());
 }
 
-std::vector<CycleRow> read_cycle_csv(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw reduced::IoError("cannot read " + file.string());
-  const std::string source = file.string();
-  std::string line;
-  if (!std::getline(in, line) || !is_cycle_csv_header(line)) {
+std::vector<CycleRow> parse_cycle_csv(std::string_view data, const std::string& source) {
+  // One line at a time, without its '\n' (and a '\r' before it is part of the line: a row with
+  // one then fails as not a number, as it did when read with std::getline).
+  std::size_t position = 0;
+  const auto next_line = [&](std::string_view& line) {
+    if (position >= data.size()) return false;
+    const std::size_t end = std::min(data.find('\n', position), data.size());
+    line = data.substr(position, end - position);
+    position = end + 1;
+    return true;
+  };
+  std::string_view line;
+  if (!next_line(line) || !is_cycle_csv_header(std::string(line))) {
     throw reduced::ParseError::at_line(source, 1, "expected the header of a khz run cycle log");
   }
   const int columns_here = line == legacy_csv_header()    ? legacy_column_count
@@ -168,7 +182,7 @@ std::vector<CycleRow> read_cycle_csv(const std::filesystem::path& file) {
                                                           : column_count;
   std::vector<CycleRow> rows;
   std::int64_t line_number = 1;
-  while (std::getline(in, line)) {
+  while (next_line(line)) {
     ++line_number;
     if (line.empty()) continue;
     std::array<double, column_count> values{};
@@ -189,9 +203,28 @@ std::vector<CycleRow> read_cycle_csv(const std::filesystem::path& file) {
           source, line_number,
           "expected " + std::to_string(columns_here) + " comma-separated numbers (see the header)");
     }
+    // Counts and the level are written as integers; anything else (a fraction, a value no
+    // integer type holds) is not a log khz run wrote, and must not reach the conversion.
+    for (const int column : integer_columns) {
+      const double value = values[static_cast<std::size_t>(column)];
+      if (column < columns_here &&
+          !(std::trunc(value) == value && std::abs(value) <= largest_integer)) {
+        throw reduced::ParseError::at_line(
+            source, line_number,
+            "column " + std::to_string(column + 1) + " must be an integer of at most 2^31");
+      }
+    }
     rows.push_back(from_columns(values));
   }
   return rows;
 }
 
-}  // namespace khz::run
+std::vector<CycleRow> read_cycle_csv(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw reduced::IoError("cannot read " + file.string());
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return parse_cycle_csv(bytes.str(), file.string());
+}
+
+}  // namespace khz::scene

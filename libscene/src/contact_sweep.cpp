@@ -1,4 +1,4 @@
-#include <khz/run/contact_sweep.hpp>
+#include <khz/scene/contact_sweep.hpp>
 
 #include <khz/reduced/stage_progress.hpp>
 
@@ -7,11 +7,11 @@
 #include <limits>
 #include <tuple>
 
-namespace khz::run {
+namespace khz::scene {
 namespace {
 
 /// The scene's free objects (dynamic World bodies), in its order.
-std::vector<int> free_objects(const scene::SceneRuntime& runtime) {
+std::vector<int> free_objects(const SceneRuntime& runtime) {
   std::vector<int> objects;
   for (int i = 0; i < static_cast<int>(runtime.description().objects.size()); ++i) {
     if (runtime.world().motion(i) != nullptr) objects.push_back(i);
@@ -21,7 +21,7 @@ std::vector<int> free_objects(const scene::SceneRuntime& runtime) {
 
 }  // namespace
 
-RecordedState record_state(const scene::SceneRuntime& runtime) {
+RecordedState record_state(const SceneRuntime& runtime) {
   RecordedState state;
   for (const haptic::CycleRecord& record : runtime.world().records()) {
     state.grasps.push_back(record.simulation);
@@ -33,9 +33,9 @@ RecordedState record_state(const scene::SceneRuntime& runtime) {
   return state;
 }
 
-int tree_levels(const scene::PreparedScene& prepared) noexcept {
+int tree_levels(const PreparedScene& prepared) noexcept {
   int levels = 1;
-  for (const scene::PreparedObject& object : prepared.objects) {
+  for (const PreparedObject& object : prepared.objects) {
     if (object.tree) levels = std::max(levels, object.tree->num_levels());
     if (object.deformable_tree) {
       levels = std::max(levels, object.deformable_tree->tree().num_levels());
@@ -67,7 +67,7 @@ std::vector<SweepSetting> default_sweep(const contact::ContactOptions& scene_opt
 
 namespace {
 
-void apply(scene::SceneRuntime& runtime, const RecordedState& state, const std::vector<int>& free) {
+void apply(SceneRuntime& runtime, const RecordedState& state, const std::vector<int>& free) {
   for (std::size_t i = 0; i < state.coordinates.size(); ++i) {
     if (state.coordinates[i].size() > 0)
       runtime.set_coordinates(static_cast<int>(i), state.coordinates[i]);
@@ -86,7 +86,7 @@ constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
 /// Every state's force and torque per hand, then per free object (state-major), cost and
 /// nodes over all pairs; `stage` reports one unit a state.
-Replay replay(scene::SceneRuntime& runtime, const std::vector<const RecordedState*>& states,
+Replay replay(SceneRuntime& runtime, const std::vector<const RecordedState*>& states,
               const contact::ContactOptions& options, reduced::StageProgress& stage) {
   haptic::World& world = runtime.world();
   world.set_contact_options(options);
@@ -128,7 +128,7 @@ std::pair<double, double> relative_errors(const std::vector<Eigen::Vector3d>& a,
 
 }  // namespace
 
-std::vector<SweepResult> sweep_contact(scene::SceneRuntime& runtime,
+std::vector<SweepResult> sweep_contact(SceneRuntime& runtime,
                                        const std::vector<RecordedState>& states,
                                        const std::vector<SweepSetting>& settings,
                                        std::size_t max_states,
@@ -136,7 +136,7 @@ std::vector<SweepResult> sweep_contact(scene::SceneRuntime& runtime,
   if (settings.empty()) throw reduced::Error("sweep_contact: no settings");
   // Whatever ends the sweep, the scene's own options are back afterwards.
   struct RestoreOptions {
-    scene::SceneRuntime& runtime;
+    SceneRuntime& runtime;
     ~RestoreOptions() { runtime.world().set_contact_options(runtime.description().contact); }
   } restore{runtime};
   for (int h = 0; h < runtime.hand_count(); ++h) runtime.world().release(h);
@@ -186,4 +186,4 @@ std::vector<SweepResult> sweep_contact(scene::SceneRuntime& runtime,
   return results;
 }
 
-}  // namespace khz::run
+}  // namespace khz::scene

@@ -2,22 +2,23 @@
 // The figures of a run that `khz run` prints and `khz report` tabulates.
 
 #include <khz/haptic/world/cycle_metrics.hpp>
-#include <khz/run/cycle_log.hpp>
+#include <khz/scene/cycle_log.hpp>
+#include <khz/scene/export.hpp>
 
 #include <cstdint>
 #include <iosfwd>
 #include <vector>
 
-namespace khz::run {
+namespace khz::scene {
 
 /// Mean and quantiles of a per-cycle quantity (exact, from all the values).
 using Spread = haptic::Quantiles;
 
 /// Mean, median, 99th percentile (nearest rank), maximum and count; all zero for no values.
-Spread spread(std::vector<double> values);
+KHZ_SCENE_API Spread spread(std::vector<double> values);
 
 /// A run in figures.
-struct RunSummary {
+struct KHZ_SCENE_API RunSummary {
   std::int64_t cycles = 0;
   double duration = 0.0;               ///< Simulated s: the last cycle's time plus one period.
   Spread cycle_us;                     ///< Whole cycle, all cycles.
@@ -41,15 +42,15 @@ struct RunSummary {
 };
 
 /// The summary of a run's rows (empty rows give the defaults); `period` is 1 / rate (s).
-RunSummary summarize(const std::vector<CycleRow>& rows, double period);
+KHZ_SCENE_API RunSummary summarize(const std::vector<CycleRow>& rows, double period);
 
 /// Prints the summary as a few aligned lines (what `khz run` ends with), the metrics included.
-void print_summary(std::ostream& out, const RunSummary& summary);
+KHZ_SCENE_API void print_summary(std::ostream& out, const RunSummary& summary);
 
 /// 100 · value / peak (%), 0 when the peak is 0.
-double percent_of(double value, double peak);
+KHZ_SCENE_API double percent_of(double value, double peak);
 
 /// Prints the runtime's metrics as a few lines (part of print_summary()).
-void print_metrics(std::ostream& out, const haptic::CycleMetricsSummary& metrics);
+KHZ_SCENE_API void print_metrics(std::ostream& out, const haptic::CycleMetricsSummary& metrics);
 
-}  // namespace khz::run
+}  // namespace khz::scene

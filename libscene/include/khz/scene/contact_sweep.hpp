@@ -4,44 +4,46 @@
 // §3.5.1, §3.10.3, Table 3.1).
 
 #include <khz/reduced/progress.hpp>
-#include <khz/run/run_summary.hpp>
+#include <khz/scene/export.hpp>
+#include <khz/scene/run_summary.hpp>
 #include <khz/scene/scene_runtime.hpp>
 
 #include <string>
 #include <vector>
 
-namespace khz::run {
+namespace khz::scene {
 
 /// Where everything was in one cycle: each hand's grasp frame (its held object's simulation
 /// pose), every reduced object's q (empty for rigid objects) and every free object's pose
 /// (world ← body, in the scene's order of the free objects).
-struct RecordedState {
+struct KHZ_SCENE_API RecordedState {
   std::vector<haptic::Pose> grasps;
   std::vector<Eigen::VectorXd> coordinates;
   std::vector<Eigen::Isometry3d> free_poses;
 };
 
 /// The state of `runtime` now (for RunOptions::on_frame with frame_every = 1).
-RecordedState record_state(const scene::SceneRuntime& runtime);
+KHZ_SCENE_API RecordedState record_state(const SceneRuntime& runtime);
 
 /// One way of querying contact: a name for tables and legends and the options.
-struct SweepSetting {
+struct KHZ_SCENE_API SweepSetting {
   std::string name;
   contact::ContactOptions options;
 };
 
 /// The largest level count of the scene's pointshell trees (rigid or deformable); 1 if none.
-int tree_levels(const scene::PreparedScene& prepared) noexcept;
+KHZ_SCENE_API int tree_levels(const PreparedScene& prepared) noexcept;
 
 /// The settings `khz report` compares, all derived from the scene's contact options with
 /// temporal coherence off (it changes cost, never the result): first the reference, every
 /// level and no degradation; then each fixed level 0 … levels − 2; then time budgets of 50,
 /// 100 and 250 µs (with the scene's cold fraction and contact weight).
 /// @param levels the pointshell trees' level count (the largest over the scene's pointshells).
-std::vector<SweepSetting> default_sweep(const contact::ContactOptions& scene_options, int levels);
+KHZ_SCENE_API std::vector<SweepSetting> default_sweep(const contact::ContactOptions& scene_options,
+                                                      int levels);
 
 /// How one setting did over the replayed states.
-struct SweepResult {
+struct KHZ_SCENE_API SweepResult {
   std::string name;
   Spread query_us;          ///< Query cost over the states in contact (µs).
   double mean_nodes = 0.0;  ///< Nodes traversed per query, states in contact.
@@ -68,10 +70,9 @@ inline constexpr std::size_t default_sweep_states = 2000;
 /// state) and then of one stage a setting, named after it (one unit a replayed state).
 /// @throws reduced::Error if `settings` is empty, or as SceneRuntime::set_coordinates();
 ///         reduced::Cancelled if `progress` returns false (the scene's options restored).
-std::vector<SweepResult> sweep_contact(scene::SceneRuntime& runtime,
-                                       const std::vector<RecordedState>& states,
-                                       const std::vector<SweepSetting>& settings,
-                                       std::size_t max_states = default_sweep_states,
-                                       const reduced::ProgressCallback& progress = {});
+KHZ_SCENE_API std::vector<SweepResult> sweep_contact(
+    SceneRuntime& runtime, const std::vector<RecordedState>& states,
+    const std::vector<SweepSetting>& settings, std::size_t max_states = default_sweep_states,
+    const reduced::ProgressCallback& progress = {});
 
-}  // namespace khz::run
+}  // namespace khz::scene

@@ -1,4 +1,4 @@
-#include <khz/run/run_summary.hpp>
+#include <khz/scene/run_summary.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <numeric>
 #include <ostream>
 
-namespace khz::run {
+namespace khz::scene {
 
 Spread spread(std::vector<double> values) {
   Spread s;
@@ -134,4 +134,4 @@ void print_metrics(std::ostream& out, const haptic::CycleMetricsSummary& m) {
   out << line;
 }
 
-}  // namespace khz::run
+}  // namespace khz::scene
