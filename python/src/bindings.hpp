@@ -39,4 +39,7 @@ void bind_haptic_coupling(py::module_& haptic);
 /// exceptions as subclasses of `error` (kilohertz.Error).
 void bind_scene(py::module_& scene, const py::handle& error);
 
+/// kilohertz.scene.report(): what `khz report` measures, as Python data.
+void bind_scene_report(py::module_& scene);
+
 }  // namespace khz::python

@@ -35,4 +35,5 @@ PYBIND11_MODULE(_core, module) {
   auto scene = submodule(
       "scene", "Scene files, their preparation and their runtime (the C++ library khz::scene).");
   kp::bind_scene(scene, module.attr("Error"));
+  kp::bind_scene_report(scene);
 }

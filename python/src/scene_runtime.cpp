@@ -24,6 +24,7 @@
 #include "bindings.hpp"
 #include "haptic_devices.hpp"
 #include "progress.hpp"
+#include "scene_figures.hpp"
 
 // A PreparedScene holds unique_ptrs in a vector, which std::is_copy_constructible cannot see
 // through: tell pybind11 it moves only.
@@ -268,38 +269,6 @@ struct HandColumns {
   }
 };
 
-py::dict quantiles(const haptic::Quantiles& q) {
-  py::dict d;
-  d["mean"] = q.mean;
-  d["p50"] = q.p50;
-  d["p99"] = q.p99;
-  d["max"] = q.max;
-  d["count"] = q.count;
-  return d;
-}
-
-py::dict summary(const haptic::CycleMetricsSummary& s) {
-  py::dict d;
-  d["cycles"] = s.cycles;
-  d["contact_force_jump"] = quantiles(s.contact_force_jump);
-  d["contact_torque_jump"] = quantiles(s.contact_torque_jump);
-  d["rendered_force_jump"] = quantiles(s.rendered_force_jump);
-  d["rendered_torque_jump"] = quantiles(s.rendered_torque_jump);
-  d["peak_contact_force"] = s.peak_contact_force;
-  d["peak_contact_torque"] = s.peak_contact_torque;
-  d["peak_rendered_force"] = s.peak_rendered_force;
-  d["peak_rendered_torque"] = s.peak_rendered_torque;
-  d["still_translation"] = quantiles(s.still_translation);
-  d["still_rotation"] = quantiles(s.still_rotation);
-  d["residual_force"] = quantiles(s.residual_force);
-  d["residual_torque"] = quantiles(s.residual_torque);
-  d["deepest_penetration"] = s.deepest_penetration;
-  d["deepest_penetration_voxels"] = s.deepest_penetration_voxels;
-  d["energy"] = s.energy;
-  d["lowest_energy"] = s.lowest_energy;
-  return d;
-}
-
 /// A SceneRuntime with the Python objects it borrows: the prepared scene and the devices.
 class Runtime {
  public:
@@ -435,7 +404,7 @@ observed_energy, points_in_contact, coupling_saturated, device_valid.)")
             if (hand < 0 || hand >= r.runtime().hand_count()) {
               throw py::index_error("hand " + std::to_string(hand) + " out of range");
             }
-            return summary(r.runtime().world().metrics(hand));
+            return metrics_out(r.runtime().world().metrics(hand));
           },
           py::arg("hand") = 0,
           "The last run's smoothness, jitter, residual, penetration and passivity figures for a "
