@@ -4,6 +4,7 @@
 #include <khz/reduced/subspace/reduced_model.hpp>
 #include <khz/test/fixtures.hpp>
 #include <khz/test/polynomial_reference.hpp>
+#include <khz/test/two_material_box.hpp>
 
 #include <gtest/gtest.h>
 
@@ -16,60 +17,7 @@ namespace {
 
 using test::reference_derivatives;
 
-// A 1×0.5×0.5 box clamped at x = 0 with two material groups (x < ½: StVK steel-like scaled
-// to 1e6 Pa; x ≥ ½: an anisotropic general material), and a random basis that vanishes at the
-// clamp. Random bases are fine here: the polynomial identity holds for any U.
-struct TwoMaterialBox {
-  FemModel model;
-  Basis basis;
-
-  TwoMaterialBox(bool hexahedra, Eigen::Index r, double stvk_lambda = 4e5)
-      : model(mesh(hexahedra), materials(stvk_lambda)), basis(random_basis(model, r)) {}
-
-  static VolumeMesh mesh(bool hexahedra) {
-    const Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi(1.0, 0.5, 0.5);
-    const Eigen::Vector3i cells(4, 2, 2);
-    VolumeMesh volume = hexahedra ? box_hex_mesh(lo, hi, cells) : box_tet_mesh(lo, hi, cells);
-    volume.element_groups.resize(volume.elements.rows());
-    for (Eigen::Index e = 0; e < volume.elements.rows(); ++e) {
-      double x = 0;
-      for (Eigen::Index a = 0; a < volume.elements.cols(); ++a) {
-        x += volume.vertices(volume.elements(e, a), 0);
-      }
-      volume.element_groups[e] = x / static_cast<double>(volume.elements.cols()) < 0.5 ? 0 : 1;
-    }
-    return volume;
-  }
-
-  static VoigtMatrix anisotropic_elasticity() {
-    std::mt19937 random(7);
-    std::uniform_real_distribution<double> entry(-1.0, 1.0);
-    VoigtMatrix a;
-    for (Eigen::Index i = 0; i < a.size(); ++i) a(i) = entry(random);
-    return 2e5 * (a.transpose() * a + 3.0 * VoigtMatrix::Identity());
-  }
-
-  static std::vector<Material> materials(double stvk_lambda) {
-    return {Material::stvk_lame({stvk_lambda, 3e5}, 1000.0),
-            Material::general(anisotropic_elasticity(), 1500.0)};
-  }
-
-  static Basis random_basis(const FemModel& model, Eigen::Index r) {
-    std::mt19937 random(11);
-    std::normal_distribution<double> entry(0.0, 0.1);
-    Basis basis;
-    basis.vectors.resize(model.num_dofs(), r);
-    for (Eigen::Index i = 0; i < basis.vectors.size(); ++i) basis.vectors(i) = entry(random);
-    const Eigen::MatrixXd& x = model.mesh().vertices;
-    for (Eigen::Index v = 0; v < x.rows(); ++v) {
-      if (x(v, 0) < 1e-9) {
-        basis.vectors.middleRows<3>(3 * v).setZero();
-        basis.fixed_vertices.push_back(static_cast<int>(v));
-      }
-    }
-    return basis;
-  }
-};
+using test::TwoMaterialBox;
 
 double relative(const Eigen::MatrixXd& value, const Eigen::MatrixXd& reference) {
   return (value - reference).norm() / reference.norm();

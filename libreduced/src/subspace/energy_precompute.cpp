@@ -1,15 +1,15 @@
 #include "subspace/energy_precompute.hpp"
 
-#include <khz/reduced/stage_progress.hpp>
+#include "detail/shared_stage.hpp"
+
 #include <khz/reduced/worker_threads.hpp>
 
 #include <Eigen/Dense>
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
-#include <exception>
+#include <span>
 #include <utility>
 
 #include <omp.h>
@@ -132,7 +132,8 @@ EnergyPolynomial polynomial_from_gram(const Eigen::MatrixXd& gram, Eigen::Index 
 
 std::vector<std::vector<EnergyPolynomial>> precompute_group_energies(
     const FemModel& fem, const Eigen::MatrixXd& basis,
-    const std::vector<std::vector<VoigtFactor>>& part_factors, const ProgressCallback& progress) {
+    const std::vector<std::vector<VoigtFactor>>& part_factors, const ProgressCallback& progress,
+    WorkGroup* group) {
   const VolumeMesh& mesh = fem.mesh();
   const Eigen::Index r = basis.cols();
   const Eigen::Index monomials = r + pair_count(r);
@@ -145,63 +146,56 @@ std::vector<std::vector<EnergyPolynomial>> precompute_group_energies(
     group_elements[mesh.element_groups.size() > 0 ? mesh.element_groups[e] : 0].push_back(e);
   }
   const Eigen::Index elements_per_block = std::max(1, points_per_block / points);
+  const auto blocks_of = [&](int g) {
+    return (static_cast<Eigen::Index>(group_elements[g].size()) + elements_per_block - 1) /
+           elements_per_block;
+  };
   std::int64_t total_blocks = 0;
-  for (const auto& elements : group_elements) {
-    total_blocks +=
-        (static_cast<Eigen::Index>(elements.size()) + elements_per_block - 1) / elements_per_block;
-  }
-  StageProgress stage(progress, "reduced polynomials", total_blocks);
+  for (int g = 0; g < groups; ++g) total_blocks += blocks_of(g);
+  SharedStage stage(group, progress, "reduced polynomials", total_blocks);
 
+  const int threads = worker_threads();
+  // A round of a few blocks per thread between checkpoints: progress and cancellation within
+  // a fraction of a second, a negligible share of time spent meeting the other processes.
+  const std::int64_t blocks_per_round = 4 * threads;
   std::vector<std::vector<EnergyPolynomial>> energies(groups);
-  std::atomic<std::int64_t> finished{0};  // blocks done, over all groups
   for (int g = 0; g < groups; ++g) {
     const std::vector<Eigen::Index>& elements = group_elements[g];
-    const auto blocks = static_cast<Eigen::Index>(
-        (static_cast<Eigen::Index>(elements.size()) + elements_per_block - 1) / elements_per_block);
-    const int threads = worker_threads();
     std::vector<ThreadWork> work;
     for (int t = 0; t < threads; ++t) work.emplace_back(nodes, r, monomials, part_factors[g]);
-    std::atomic<bool> stop{false};
-    std::exception_ptr failure;
-
+    // This process's blocks of group g, each thread adding into its own sums.
+    const auto accumulate = [&](std::int64_t first, std::int64_t last) {
 #pragma omp parallel for schedule(static) num_threads(threads)
-    for (Eigen::Index block = 0; block < blocks; ++block) {
-      if (stop.load(std::memory_order_relaxed)) continue;
-      ThreadWork& mine = work[omp_get_thread_num()];
-      const Eigen::Index end = std::min<Eigen::Index>(static_cast<Eigen::Index>(elements.size()),
-                                                      (block + 1) * elements_per_block);
-      for (Eigen::Index at = block * elements_per_block; at < end; ++at) {
-        const Eigen::Index e = elements[at];
-        for (Eigen::Index a = 0; a < nodes; ++a) {
-          mine.element_basis.middleRows<3>(3 * a) = basis.middleRows<3>(3 * mesh.elements(e, a));
-        }
-        for (int q = 0; q < points; ++q) {
-          strain_monomials(fem.shape_gradients(e, q), mine);
-          const double root_weight = std::sqrt(fem.quadrature_weight(e, q));
-          for (std::size_t part = 0; part < part_factors[g].size(); ++part) {
-            const VoigtFactor& factor = part_factors[g][part];
-            mine.rows[part].middleCols(mine.pending * factor.cols(), factor.cols()).noalias() =
-                root_weight * mine.strains.transpose() * factor;
+      for (std::int64_t block = first; block < last; ++block) {
+        ThreadWork& mine = work[omp_get_thread_num()];
+        const Eigen::Index end = std::min<Eigen::Index>(static_cast<Eigen::Index>(elements.size()),
+                                                        (block + 1) * elements_per_block);
+        for (Eigen::Index at = block * elements_per_block; at < end; ++at) {
+          const Eigen::Index e = elements[at];
+          for (Eigen::Index a = 0; a < nodes; ++a) {
+            mine.element_basis.middleRows<3>(3 * a) = basis.middleRows<3>(3 * mesh.elements(e, a));
           }
-          if (++mine.pending == points_per_block) flush(mine);
+          for (int q = 0; q < points; ++q) {
+            strain_monomials(fem.shape_gradients(e, q), mine);
+            const double root_weight = std::sqrt(fem.quadrature_weight(e, q));
+            for (std::size_t part = 0; part < part_factors[g].size(); ++part) {
+              const VoigtFactor& factor = part_factors[g][part];
+              mine.rows[part].middleCols(mine.pending * factor.cols(), factor.cols()).noalias() =
+                  root_weight * mine.strains.transpose() * factor;
+            }
+            if (++mine.pending == points_per_block) flush(mine);
+          }
         }
       }
-      ++finished;
-      if (omp_get_thread_num() == 0 && !stop.load()) {
-        try {
-          stage.advance(finished.load() - stage.done());
-        } catch (...) {
-          failure = std::current_exception();
-          stop = true;
-        }
-      }
-    }
-    if (failure) std::rethrow_exception(failure);
+    };
+    stage.run(blocks_of(g), blocks_per_round, accumulate);
     for (ThreadWork& mine : work) flush(mine);
 
     for (std::size_t part = 0; part < part_factors[g].size(); ++part) {
       Eigen::MatrixXd gram = std::move(work[0].sums[part]);
       for (std::size_t t = 1; t < work.size(); ++t) gram += work[t].sums[part];
+      // Every process's partial Gram matrix, summed: the whole mesh's.
+      if (stage.shared()) group->sum(std::span<double>(gram.data(), gram.size()));
       energies[g].push_back(polynomial_from_gram(gram, r));
     }
   }

@@ -5,6 +5,7 @@
 #include <khz/reduced/fem/fem_model.hpp>
 #include <khz/reduced/progress.hpp>
 #include <khz/reduced/subspace/energy_polynomial.hpp>
+#include <khz/reduced/work_group.hpp>
 
 #include <Eigen/Core>
 
@@ -18,9 +19,13 @@ using VoigtFactor = Eigen::Matrix<double, 6, Eigen::Dynamic>;
 
 /// For every material group g and each factor in part_factors[g], the reduced energy polynomial
 /// of g's elements alone under that part's elasticity, in the basis U (3n×r).
-/// @throws Cancelled if `progress` says stop.
+/// With a `group`, each process sums its share of the elements and the shares are added (every
+/// process gets the whole result); null: this process alone.
+/// @throws Cancelled if `progress` says stop (on any process of the group); Error if a process
+///         of the group failed.
 std::vector<std::vector<EnergyPolynomial>> precompute_group_energies(
     const FemModel& fem, const Eigen::MatrixXd& basis,
-    const std::vector<std::vector<VoigtFactor>>& part_factors, const ProgressCallback& progress);
+    const std::vector<std::vector<VoigtFactor>>& part_factors, const ProgressCallback& progress,
+    WorkGroup* group);
 
 }  // namespace khz::reduced::detail

@@ -1,5 +1,6 @@
 // ReducedModel::precompute(): the reduced energy polynomials and masses from the FEM model
 // (thesis §2.6), apart from the rest of ReducedModel so that reading a model file needs no FEM.
+#include "detail/shared_stage.hpp"
 #include "subspace/energy_precompute.hpp"
 
 #include <khz/reduced/errors.hpp>
@@ -7,6 +8,7 @@
 
 #include <Eigen/Cholesky>
 
+#include <array>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -29,17 +31,32 @@ detail::VoigtFactor mu_factor() {
   return factor;
 }
 
-}  // namespace
-
-ReducedModel ReducedModel::precompute(const FemModel& fem, Basis basis,
-                                      const ReducedModelOptions& options) {
-  const Eigen::MatrixXd& u = basis.vectors;
+void check_basis(const FemModel& fem, const Eigen::MatrixXd& u) {
   if (u.rows() != fem.num_dofs()) {
     throw Error("ReducedModel: the basis has " + std::to_string(u.rows()) +
                 " rows but the FEM model has " + std::to_string(fem.num_dofs()) + " dofs");
   }
   if (u.cols() == 0) throw Error("ReducedModel: the basis has no vectors");
   if (!u.allFinite()) throw Error("ReducedModel: the basis has a non-finite entry");
+}
+
+}  // namespace
+
+ReducedModel ReducedModel::precompute(const FemModel& fem, Basis basis,
+                                      const ReducedModelOptions& options) {
+  const Eigen::MatrixXd& u = basis.vectors;
+  // With a group, a bad basis on one process stops every process, before any partial sum.
+  const ProgressCallback quiet;
+  detail::SharedStage inputs(options.group, quiet, "reduced polynomials", 1);
+  inputs.agree([&] { check_basis(fem, u); });
+  const std::array<double, 4> sizes{
+      static_cast<double>(fem.num_dofs()), static_cast<double>(fem.mesh().elements.rows()),
+      static_cast<double>(fem.materials().size()), static_cast<double>(u.cols())};
+  if (!detail::same_on_every_process(options.group, sizes)) {
+    throw Error(
+        "ReducedModel: the processes of the group were given different models or bases (every "
+        "process must pass the same dofs, elements, materials and basis size)");
+  }
 
   std::vector<std::vector<detail::VoigtFactor>> factors;
   for (const Material& material : fem.materials()) {
@@ -50,7 +67,7 @@ ReducedModel ReducedModel::precompute(const FemModel& fem, Basis basis,
     }
   }
   std::vector<std::vector<EnergyPolynomial>> energies =
-      detail::precompute_group_energies(fem, u, factors, options.progress);
+      detail::precompute_group_energies(fem, u, factors, options.progress, options.group);
 
   std::vector<ReducedMaterialGroup> groups;
   for (std::size_t g = 0; g < energies.size(); ++g) {

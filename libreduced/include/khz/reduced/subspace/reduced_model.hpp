@@ -9,6 +9,7 @@
 #include <khz/reduced/solvers/newmark_parameters.hpp>
 #include <khz/reduced/subspace/energy_polynomial.hpp>
 #include <khz/reduced/subspace/reduced_newmark.hpp>
+#include <khz/reduced/work_group.hpp>
 
 #include <Eigen/Core>
 
@@ -51,8 +52,15 @@ struct KHZ_REDUCED_API ReducedIntegratorDefaults {
 struct ReducedModelOptions {
   /// Mass matrix used for the reduced mass (consistent, as the bases are mass-orthonormal in it).
   MassLumping mass = MassLumping::consistent;
-  /// Reports stage "reduced polynomials" (units: element blocks); false cancels (Cancelled).
+  /// Reports stage "reduced polynomials" (units: element blocks, counted over the whole group
+  /// when there is one); false cancels (Cancelled).
   ProgressCallback progress;
+  /// Processes that share the precompute (e.g. khz::mpi::MpiWorkGroup), or null for this one
+  /// alone. With a group, every process calls precompute() with the same model and basis; each
+  /// sums the polynomials over its share of the elements, the shares are added, and every
+  /// process returns the whole model, equal to a single process's to round-off. A failure or a
+  /// cancel on any process ends the call on every process (Error naming the rank, Cancelled).
+  WorkGroup* group = nullptr;
 };
 
 /// A reduced nonlinear deformable model (thesis §2.5–§2.6, §2.11): the basis U (3n×r), the exact

@@ -1,0 +1,65 @@
+#pragma once
+// Processes that share one precomputation (e.g. the ranks of an MPI job), as a precomputation
+// sees them. libreduced depends on no message-passing library: khz::mpi implements this
+// interface over MPI (khz/mpi/mpi_work_group.hpp), and tests can implement it with threads.
+
+#include <khz/reduced/export.hpp>
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <utility>
+
+namespace khz::reduced {
+
+/// What a process brings to a WorkGroup::checkpoint(), and what the group's checkpoint returns.
+struct KHZ_REDUCED_API GroupStatus {
+  enum class State {
+    running,    ///< Nothing went wrong.
+    cancelled,  ///< The process's progress callback asked to stop.
+    failed,     ///< The process's share threw; `message` says what.
+  };
+  State state = State::running;
+  /// Brought: what failed or cancelled. Returned: the message of the process the state comes
+  /// from (empty while running).
+  std::string message;
+  /// Brought: units this process finished since its previous checkpoint. Returned: the sum
+  /// over the group.
+  std::int64_t done = 0;
+  /// Returned: the process the state and message come from (-1 while running).
+  int rank = -1;
+};
+
+/// The processes that share a computation. Every process of the group makes the same
+/// collective calls (sum(), checkpoint()) in the same order, as MPI's collectives require;
+/// the computations that take a group (ReducedModelOptions::group, …) guarantee that, also when
+/// one process fails or cancels: its failure reaches the others at the next checkpoint and
+/// every process then throws.
+class KHZ_REDUCED_API WorkGroup {
+ public:
+  virtual ~WorkGroup();
+
+  /// This process's index, 0 ≤ rank() < size().
+  virtual int rank() const noexcept = 0;
+  /// Processes in the group, ≥ 1.
+  virtual int size() const noexcept = 0;
+  /// Collective: replaces `values` on every process by their element-wise sum over the group.
+  /// Every process passes a span of the same length. @throws Error if the transport fails.
+  virtual void sum(std::span<double> values) = 0;
+  /// Collective: the group's status. State: failed if any process brings failed, else
+  /// cancelled if any brings cancelled, else running; message and rank: those of the
+  /// lowest-ranked process in that state; done: the sum of every process's `done`.
+  /// @throws Error if the transport fails.
+  virtual GroupStatus checkpoint(const GroupStatus& mine) = 0;
+};
+
+/// The share [begin, end) of `count` equal units that process `rank` of `size` takes:
+/// contiguous, in rank order, sizes differing by at most one.
+inline std::pair<std::int64_t, std::int64_t> share_of(std::int64_t count, int rank,
+                                                      int size) noexcept {
+  const auto begin = count * rank / size;
+  const auto end = count * (rank + 1) / size;
+  return {begin, end};
+}
+
+}  // namespace khz::reduced
