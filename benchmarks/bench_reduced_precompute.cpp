@@ -5,9 +5,9 @@
 #include <khz/reduced/meshing/box_mesh.hpp>
 #include <khz/reduced/subspace/reduced_model.hpp>
 
-#include <benchmark/benchmark.h>
+#include "random_basis.hpp"
 
-#include <random>
+#include <benchmark/benchmark.h>
 
 namespace {
 
@@ -21,18 +21,9 @@ FemModel beam(bool hexahedra) {
                   {Material::stvk(1e6, 0.45, 1000.0)});
 }
 
-Basis random_basis(const FemModel& model, Eigen::Index r) {
-  std::mt19937 random(1);
-  std::normal_distribution<double> entry(0.0, 1.0);
-  Basis basis;
-  basis.vectors.resize(model.num_dofs(), r);
-  for (Eigen::Index i = 0; i < basis.vectors.size(); ++i) basis.vectors(i) = entry(random);
-  return basis;
-}
-
 void precompute(benchmark::State& state, bool hexahedra) {
   const FemModel model = beam(hexahedra);
-  const Basis basis = random_basis(model, state.range(0));
+  const Basis basis = khz::bench::random_basis(model, state.range(0));
   for (auto _ : state) {
     const ReducedModel reduced = ReducedModel::precompute(model, basis);
     benchmark::DoNotOptimize(reduced.groups().front().parts.front().quartic.data());

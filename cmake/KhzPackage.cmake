@@ -9,6 +9,12 @@ else()
   set(KHZ_STATIC_LIBS TRUE)
 endif()
 
+# Components built only with their option, listed in the config only then.
+set(KHZ_OPTIONAL_COMPONENTS "")
+if(KHZ_WITH_MPI)
+  list(APPEND KHZ_OPTIONAL_COMPONENTS mpi)
+endif()
+
 configure_package_config_file(cmake/KilohertzConfig.cmake.in
                               "${PROJECT_BINARY_DIR}/KilohertzConfig.cmake"
                               INSTALL_DESTINATION ${KHZ_INSTALL_CMAKEDIR})

@@ -1,0 +1,34 @@
+# The khz::mpi component (libmpi/): option KHZ_WITH_MPI, on by default when Kilohertz is the
+# top-level project and finds MPI with mpiexec (Debian: libopenmpi-dev openmpi-bin). Off, no
+# Kilohertz library links MPI; on, only khz_mpi does.
+#
+# MPI's C interface, called from C++: FindMPI's CXX component without the C++ bindings MPI 3
+# deprecated (MPI_CXX_SKIP_MPICXX; the C component would need the C language enabled).
+set(MPI_CXX_SKIP_MPICXX TRUE)
+set(khz_mpi_found FALSE)
+if(PROJECT_IS_TOP_LEVEL OR KHZ_WITH_MPI)
+  find_package(MPI QUIET COMPONENTS CXX)
+  if(MPI_CXX_FOUND AND MPIEXEC_EXECUTABLE)
+    set(khz_mpi_found TRUE)
+  endif()
+endif()
+
+option(KHZ_WITH_MPI "Build the khz::mpi component: precomputation shared over MPI ranks"
+       ${khz_mpi_found})
+if(KHZ_WITH_MPI AND NOT khz_mpi_found)
+  message(FATAL_ERROR "KHZ_WITH_MPI is on but no MPI library with mpiexec was found (Debian: "
+                      "apt install libopenmpi-dev openmpi-bin)")
+endif()
+if(KHZ_WITH_MPI)
+  # What the tests and benchmarks pass mpiexec: Open MPI refuses to run as root without
+  # --allow-run-as-root, and more ranks than cores without --oversubscribe.
+  execute_process(COMMAND "${MPIEXEC_EXECUTABLE}" --version OUTPUT_VARIABLE khz_mpiexec_version
+                  ERROR_QUIET)
+  set(KHZ_MPIEXEC_FLAGS "")
+  if(khz_mpiexec_version MATCHES "OpenRTE|Open MPI|open-mpi")
+    set(KHZ_MPIEXEC_FLAGS --oversubscribe --allow-run-as-root)
+  endif()
+  message(STATUS "Kilohertz MPI component: MPI ${MPI_CXX_VERSION} (${MPIEXEC_EXECUTABLE})")
+elseif(PROJECT_IS_TOP_LEVEL)
+  message(STATUS "Kilohertz MPI component: off (needs libopenmpi-dev openmpi-bin)")
+endif()
