@@ -14,6 +14,18 @@ namespace detail {
 
 namespace {
 
+/// Collective: every process's `values`, process after process (size × values.size() entries):
+/// each process fills its own slot of zeros and the slots are summed, which adds nothing but
+/// zeros to any value, so every process receives them exactly.
+std::vector<double> from_every_process(WorkGroup& group, std::span<const double> values) {
+  std::vector<double> all(static_cast<std::size_t>(group.size()) * values.size(), 0.0);
+  std::copy(values.begin(), values.end(),
+            all.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(group.rank()) *
+                                                      values.size()));
+  group.sum(all);
+  return all;
+}
+
 std::string what_of(const std::exception_ptr& failure) {
   try {
     std::rethrow_exception(failure);
@@ -52,10 +64,8 @@ void SharedStage::fail(std::exception_ptr failure) {
 
 std::int64_t SharedStage::most_rounds(std::int64_t rounds) {
   if (!shared()) return rounds;
-  // Each process's count in its own slot, summed: every process sees all of them.
-  std::vector<double> counts(static_cast<std::size_t>(m_group->size()), 0.0);
-  counts[static_cast<std::size_t>(m_group->rank())] = static_cast<double>(rounds);
-  m_group->sum(counts);
+  const double mine = static_cast<double>(rounds);
+  const std::vector<double> counts = from_every_process(*m_group, {&mine, 1});
   return static_cast<std::int64_t>(*std::max_element(counts.begin(), counts.end()));
 }
 
@@ -104,17 +114,13 @@ void SharedStage::report() {
 
 bool same_on_every_process(WorkGroup* group, std::span<const double> values) {
   if (!group || group->size() == 1) return true;
-  // The mean over the processes, then the spread about it: zero iff every value equals the mean
-  // (exact while the sums of the values are).
-  std::vector<double> mean(values.begin(), values.end());
-  group->sum(mean);
-  std::vector<double> spread(values.size());
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    mean[i] /= group->size();
-    spread[i] = (values[i] - mean[i]) * (values[i] - mean[i]);
+  const std::vector<double> all = from_every_process(*group, values);
+  for (std::size_t at = 0; at < all.size(); at += values.size()) {
+    if (!std::equal(values.begin(), values.end(), all.begin() + static_cast<std::ptrdiff_t>(at))) {
+      return false;
+    }
   }
-  group->sum(spread);
-  return std::all_of(spread.begin(), spread.end(), [](double s) { return s == 0.0; });
+  return true;
 }
 
 }  // namespace detail

@@ -97,8 +97,7 @@ class SharedStage {
 };
 
 /// Collective: whether every process of `group` passed the same `values` (e.g. sizes that must
-/// agree before partial sums are added); true without a group. Exact for integers whose sum
-/// over the group is below 2⁵³.
+/// agree before partial sums are added), compared exactly; true without a group.
 bool same_on_every_process(WorkGroup* group, std::span<const double> values);
 
 }  // namespace khz::reduced::detail
