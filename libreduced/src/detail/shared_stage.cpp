@@ -8,8 +8,6 @@
 
 namespace khz::reduced {
 
-WorkGroup::~WorkGroup() = default;
-
 namespace detail {
 
 namespace {
@@ -72,24 +70,12 @@ std::int64_t SharedStage::most_rounds(std::int64_t rounds) {
 void SharedStage::check_in(std::int64_t done) {
   m_mine.done = done;
   GroupStatus group = m_mine;
-  int rank = 0;
   if (m_group) {
     group = m_group->checkpoint(m_mine);
-    rank = m_group->rank();
+    stop_unless_running(group, m_group->rank(), m_group->size(), m_name, m_own_failure);
   } else {
     group.rank = 0;  // this process alone
-  }
-  switch (group.state) {
-    case GroupStatus::State::running:
-      break;
-    case GroupStatus::State::failed:
-      if (group.rank == rank && m_own_failure) std::rethrow_exception(m_own_failure);
-      throw Error(m_name + " failed on rank " + std::to_string(group.rank) + " of " +
-                  std::to_string(m_group->size()) + ": " + group.message);
-    case GroupStatus::State::cancelled:
-      if (group.rank == rank) throw Cancelled(group.message);
-      throw Cancelled(m_name + " cancelled on rank " + std::to_string(group.rank) + " of " +
-                      std::to_string(m_group->size()));
+    stop_unless_running(group, 0, 1, m_name, m_own_failure);
   }
   if (done == 0 && group.done == 0) return;
   m_done = std::min(m_total, m_done + group.done);

@@ -6,8 +6,10 @@
 #include <khz/reduced/export.hpp>
 
 #include <cstdint>
+#include <exception>
 #include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 
 namespace khz::reduced {
@@ -52,6 +54,16 @@ class KHZ_REDUCED_API WorkGroup {
   /// @throws Error if the transport fails.
   virtual GroupStatus checkpoint(const GroupStatus& mine) = 0;
 };
+
+/// Ends a shared computation called `what` as the checkpoint result `group` says, alike on
+/// every process: returns while it is running. When a process failed, the process it comes
+/// from (`rank` == group.rank) rethrows `own_failure` if it has one; every other throws Error
+/// "<what> failed on rank R of N: <message>". When one cancelled, that process throws
+/// Cancelled with its own message and every other Cancelled "<what> cancelled on rank R of N".
+/// `rank` and `size` are this process's and the group's (0 and 1 for a process alone).
+KHZ_REDUCED_API void stop_unless_running(const GroupStatus& group, int rank, int size,
+                                         std::string_view what,
+                                         const std::exception_ptr& own_failure);
 
 /// The share [begin, end) of `count` equal units that process `rank` of `size` takes:
 /// contiguous, in rank order, sizes differing by at most one.
