@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <fstream>
 #include <stdexcept>
 #include <string>
@@ -76,6 +79,42 @@ TEST(ProductCache, NamesAreMadeSafeForPathsAndBadDirectoriesAreReported) {
   } catch (const reduced::IoError& error) {
     EXPECT_NE(std::string(error.what()).find((blocked / "cache").string()), std::string::npos);
   }
+}
+
+/// The id of a process that has ended (a child that exited and was reaped).
+pid_t ended_process() {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ::waitpid(child, nullptr, 0);
+  return child;
+}
+
+TEST(ProductCache, TemporariesOfDeadProcessesOfThisHostAreRemovedOnOpening) {
+  const std::filesystem::path directory = test::scratch_directory("abandoned");
+  const std::filesystem::path live_target = ProductCache(directory).file("field", "k1", "txt");
+  // The name a temporary gets: the writer's temporary while it writes.
+  std::filesystem::path live_temporary;
+  ProductCache(directory).fetch<std::string>(
+      "field", "k1", "txt", read_text, [] { return std::string("product"); },
+      [&](const std::string& text, const std::filesystem::path& file) {
+        live_temporary = file;
+        write_text(text, file);
+      });
+  ASSERT_FALSE(live_temporary.empty());
+  const std::string marker = live_temporary.filename().string();
+  const std::string prefix = marker.substr(0, marker.rfind('-') + 1);  // "<file>.partial-<host>-"
+  ASSERT_NE(prefix.find(".partial-"), std::string::npos) << marker;
+  EXPECT_EQ(marker.substr(prefix.size()), std::to_string(::getpid()));
+
+  const std::string dead = directory / (prefix + std::to_string(ended_process()));
+  const std::string alive = directory / (prefix + std::to_string(::getpid()));
+  const std::string other_host = directory / "field-k2.txt.partial-elsewhere-1";
+  for (const std::string& file : {dead, alive, other_host}) write_text("half a product", file);
+  const ProductCache reopened(directory);
+  EXPECT_FALSE(std::filesystem::exists(dead));        // its writer died: removed
+  EXPECT_TRUE(std::filesystem::exists(alive));        // still being written
+  EXPECT_TRUE(std::filesystem::exists(other_host));   // not this host's to judge
+  EXPECT_TRUE(std::filesystem::exists(live_target));  // products are never touched
 }
 
 }  // namespace

@@ -15,8 +15,12 @@ namespace khz::scene {
 
 /// A directory of prepared products, each stored as `<directory>/<name>-<key>.<extension>`.
 ///
-/// A product is written to a temporary file in the same directory and renamed into place, so an
-/// interrupted or failed computation never leaves a file that looks complete. A product file
+/// A product is written to a temporary file in the same directory
+/// (`<file>.partial-<host>-<process id>`) and renamed into place, so an interrupted or failed
+/// computation never leaves a file that looks complete, and processes sharing the directory
+/// (the ranks of an MPI job, on one host or several) never write the same file. A failed
+/// computation removes its temporary file; one left by a process that died (killed, out of
+/// memory) is removed when a ProductCache next opens the directory on the same host. A product file
 /// that exists is read, and its reader checks it (the binary formats carry a checksum); one the
 /// reader rejects as damaged is never trusted: it is computed again and replaced, and the record
 /// says why.
@@ -34,7 +38,8 @@ class KHZ_SCENE_API ProductCache {
     std::string damaged;
   };
 
-  /// Uses (and creates, with its parents) `directory`.
+  /// Uses (and creates, with its parents) `directory`, and removes the temporary files that
+  /// processes of this host left there when they died.
   /// @throws khz::reduced::IoError naming the directory if it cannot be created.
   explicit ProductCache(std::filesystem::path directory);
 
