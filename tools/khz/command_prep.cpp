@@ -1,4 +1,5 @@
 #include "commands.hpp"
+#include "job_processes.hpp"
 #include "scene_preparation.hpp"
 
 #include <khz/scene/read_scene.hpp>
@@ -25,8 +26,9 @@ void add_prep_command(CLI::App& app) {
                       "Product cache directory (default: $XDG_CACHE_HOME/kilohertz, else "
                       "~/.cache/kilohertz)");
   command->callback([args] {
+    JobProcesses job("prep");  // mpirun -np N khz prep: the N processes share the products
     prepare_with_progress(scene::read_scene(args->scene), cache_directory(args->cache, args->scene),
-                          std::cout);
+                          std::cout, job.group());
   });
 }
 

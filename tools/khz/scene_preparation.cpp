@@ -52,9 +52,10 @@ void print_prepare_summary(std::ostream& out, const scene::PreparedScene& prepar
                            const std::filesystem::path& cache) {
   std::vector<std::vector<std::string>> rows{{"object", "product", "how", "seconds", "file"}};
   for (const scene::PrepareRecord& record : prepared.records) {
-    rows.push_back({record.object, std::string(scene::step_name(record.step)),
-                    std::string(scene::origin_name(record.origin)), seconds_text(record.seconds),
-                    record.file.filename().string()});
+    std::string how(scene::origin_name(record.origin));
+    if (record.rank >= 0) how += " (rank " + std::to_string(record.rank) + ")";
+    rows.push_back({record.object, std::string(scene::step_name(record.step)), how,
+                    seconds_text(record.seconds), record.file.filename().string()});
   }
   std::vector<std::size_t> widths(rows.front().size(), 0);
   for (const auto& row : rows) {
@@ -87,19 +88,21 @@ void print_prepare_summary(std::ostream& out, const scene::PreparedScene& prepar
 
 scene::PreparedScene prepare_with_progress(const scene::SceneDescription& description,
                                            const std::filesystem::path& cache,
-                                           std::ostream& summary) {
+                                           std::ostream& summary, reduced::WorkGroup* group) {
   scene::ProductCache products(cache);
-  ProgressBar bar(std::cerr, ::isatty(STDERR_FILENO) == 1);
+  const bool shows = !group || group->rank() == 0;
+  ProgressBar bar(std::cerr, shows && ::isatty(STDERR_FILENO) == 1);
   const InterruptRequest interrupt;
   scene::PrepareOptions options;
+  options.group = group;
   options.progress = [&](const std::string& object, scene::PrepareStep step,
                          const reduced::Progress& progress) {
-    bar.update(object + " " + std::string(scene::step_name(step)), progress);
+    if (shows) bar.update(object + " " + std::string(scene::step_name(step)), progress);
     return !interrupt.requested();
   };
   scene::PreparedScene prepared = scene::prepare_scene(description, products, options);
   bar.clear();
-  print_prepare_summary(summary, prepared, products.directory());
+  if (shows) print_prepare_summary(summary, prepared, products.directory());
   return prepared;
 }
 

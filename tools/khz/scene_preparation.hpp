@@ -2,6 +2,7 @@
 // What `khz prep`, `khz run` and `khz report` share: where the product cache is, Ctrl-C as a
 // request to stop, and preparing a scene with progress bars and a summary table.
 
+#include <khz/reduced/work_group.hpp>
 #include <khz/scene/prepared_scene.hpp>
 #include <khz/scene/scene_description.hpp>
 
@@ -32,13 +33,16 @@ std::filesystem::path cache_directory(const std::string& option, const std::stri
 
 /// Prepares `description` through the cache in `cache` (scene::prepare_scene()) with progress
 /// bars on stderr; Ctrl-C cancels (reduced::Cancelled). Prints the summary table
-/// (print_prepare_summary()) to `summary`.
+/// (print_prepare_summary()) to `summary`. With a `group` of several processes they share the
+/// preparation; only its first process (rank 0) shows progress and the summary.
 /// @throws what scene::prepare_scene() throws.
 scene::PreparedScene prepare_with_progress(const scene::SceneDescription& description,
                                            const std::filesystem::path& cache,
-                                           std::ostream& summary);
+                                           std::ostream& summary,
+                                           reduced::WorkGroup* group = nullptr);
 
-/// One row per product: object, product, how it was obtained, seconds, cache file; then the
+/// One row per product: object, product, how it was obtained (with the rank that computed it in
+/// a shared preparation), seconds, cache file; then the
 /// total, and the notes of products that need a look.
 void print_prepare_summary(std::ostream& out, const scene::PreparedScene& prepared,
                            const std::filesystem::path& cache);

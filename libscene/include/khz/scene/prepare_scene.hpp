@@ -4,6 +4,7 @@
 // otherwise. See docs/SCENES.md, "Preparing a scene".
 
 #include <khz/reduced/progress.hpp>
+#include <khz/reduced/work_group.hpp>
 #include <khz/scene/export.hpp>
 #include <khz/scene/prepare_error.hpp>
 #include <khz/scene/prepared_scene.hpp>
@@ -26,6 +27,11 @@ using PrepareProgress = std::function<bool(const std::string& object, PrepareSte
 /// Options of prepare_scene().
 struct PrepareOptions {
   PrepareProgress progress;  ///< Empty: no reports, never cancelled.
+  /// The processes that share the preparation (e.g. the ranks of an MPI job through
+  /// khz::mpi::MpiWorkGroup), each calling prepare_scene() with the same scene and the same
+  /// cache directory on a file system they all see. Null (or a group of one): this process
+  /// alone. See prepare_scene(), "Shared preparation".
+  reduced::WorkGroup* group = nullptr;
 };
 
 /// Prepares every object of `scene` (a description from read_scene()) in order. Everything is
@@ -57,6 +63,21 @@ struct PrepareOptions {
 ///
 /// Objects with the same inputs in the same scene: the second reads what the first computed.
 ///
+/// Shared preparation (options.group of more than one process): first the cached products
+/// missing from the cache are computed, each by one process, in three rounds (reduced models
+/// and distance fields; then pointshells, which sample the fields; then reduced objects' point
+/// trees), the products of a round dealt to the processes in turn, with a checkpoint of the
+/// group after each round; then every process prepares the scene as above, reading them all.
+/// The files are the ones one process would write, under the same names; a later preparation
+/// by one process computes nothing. The records of products computed in the first part say
+/// which process computed them (PrepareRecord::rank) and how long it took; a computed
+/// product's note is kept only by the process that computed it. A failure or a cancel on any
+/// process ends the call on every process at the next checkpoint: the failing process throws
+/// its own PrepareError, the others a reduced::Error that names it; a cancel gives Cancelled
+/// everywhere. A process that dies (killed, out of memory) ends the job through the launcher
+/// (mpiexec), as for any MPI program; the temporary file it was writing is removed by the
+/// next preparation with this cache on the same host (ProductCache).
+///
 /// Then PreparedScene::warnings gets one entry per object whose size (the longest side of its
 /// pointshell's or field's body-frame box) is below 1 mm, above 10 m, or at least 100 times the
 /// smallest object's: most likely a mesh in millimetres (or other units) read as metres; and one
@@ -67,7 +88,8 @@ struct PrepareOptions {
 ///         (std::throw_with_nested), for any failure: a mesh or load file that cannot be read,
 ///         a product file that is corrupt or belongs to another mesh, an invalid mesh, an
 ///         anchor set that selects no vertex, a solver failure; reduced::Cancelled, unchanged,
-///         if options.progress cancels.
+///         if options.progress cancels; reduced::Error, in a shared preparation, when another
+///         process failed, or when the processes do not see the same cache directory.
 KHZ_SCENE_API PreparedScene prepare_scene(const SceneDescription& scene, ProductCache& cache,
                                           const PrepareOptions& options = {});
 

@@ -54,6 +54,9 @@ struct PrepareRecord {
   /// Something worth knowing about a computed product that is not an error, e.g. repulsion
   /// levels that did not converge; empty otherwise.
   std::string note;
+  /// In a shared preparation (PrepareOptions::group), the process that computed the product
+  /// (its rank in the group); -1 otherwise.
+  int rank = -1;
 };
 
 /// "computed", "read" or "built".
