@@ -1,20 +1,27 @@
-// Strong scaling of the reduced-polynomial precompute over MPI ranks (issue 24). Run it under
-// mpiexec with N ranks; in one launch it times, on the same mesh and basis:
+// Strong scaling of the reduced-polynomial precompute and of the modal derivatives over MPI
+// ranks (issue 24). Run it under mpiexec with N ranks; in one launch it times, on the same mesh
+// and basis (or modes):
 //   - rank 0 alone on one thread (the other ranks sleep, not spin, meanwhile);
 //   - all N ranks, one thread each, sharing the elements through khz::mpi::MpiWorkGroup;
 //   - rank 0 alone on N threads: the same cores used by OpenMP instead of ranks.
 // and prints speedup and parallel efficiency against the first, the shared result's largest
 // relative difference from rank 0's own (round-off), the time per element and per element and
-// r⁴ (the cost model docs/SCALING.md extrapolates from) and each rank's peak memory.
+// r⁴ (the cost model docs/SCALING.md extrapolates from) and each rank's peak memory. The modal
+// derivatives (the beam clamped at one end, k modes, k(k+1)/2 derivatives) get the same table,
+// with the time per derivative.
 //
-//   mpiexec -n 2 --bind-to none bench_mpi_scaling [--cells 40] [--r 15,30] [--quick]
+//   mpiexec -n 2 --bind-to none bench_mpi_scaling [--cells 40] [--r 15,30] [--modes 10,20]
+//                                                 [--quick]
 //
 // (Open MPI binds each of 2 ranks to one core by default, which would leave the N-thread run
 // one core: --bind-to none.)
 
 #include <khz/mpi/environment.hpp>
 #include <khz/mpi/mpi_work_group.hpp>
+#include <khz/reduced/basis/linear_modes.hpp>
+#include <khz/reduced/basis/modal_derivatives.hpp>
 #include <khz/reduced/meshing/box_mesh.hpp>
+#include <khz/reduced/solvers/fixed_dofs.hpp>
 #include <khz/reduced/subspace/reduced_model.hpp>
 #include <khz/reduced/worker_threads.hpp>
 
@@ -60,19 +67,57 @@ void sleeping_barrier(MPI_Comm communicator) {
   }
 }
 
-// Rank 0's precompute alone on `threads` threads, timed; the others wait asleep.
-double alone(const FemModel& model, const Basis& basis, int threads, int rank,
-             MPI_Comm communicator, std::optional<ReducedModel>& result) {
+// Rank 0 alone runs `work` on `threads` threads, timed; the others wait asleep.
+template <typename Work>
+double alone(int threads, int rank, MPI_Comm communicator, const Work& work) {
   MPI_Barrier(communicator);
   double seconds = 0.0;
   if (rank == 0) {
     const ScopedWorkerThreads bound(threads);
     const auto start = Clock::now();
-    result = ReducedModel::precompute(model, basis);
+    work();
     seconds = std::chrono::duration<double>(Clock::now() - start).count();
   }
   sleeping_barrier(communicator);
   return seconds;
+}
+
+// Every rank runs `work` on one thread, timed from the first to the last rank's end.
+template <typename Work>
+double together(MPI_Comm communicator, const Work& work) {
+  MPI_Barrier(communicator);
+  const auto start = Clock::now();
+  {
+    const ScopedWorkerThreads bound(1);
+    work();
+  }
+  MPI_Barrier(communicator);
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The best of `repeats` interleaved runs of each kind (so that none is a cold first run): one
+// rank on one thread, all ranks, one rank on as many threads as ranks.
+struct Timings {
+  double one = 1e300, distributed = 1e300, threads = 1e300;
+};
+template <typename Alone, typename Shared>
+Timings best_of(int repeats, int ranks, int rank, MPI_Comm communicator, const Alone& run_alone,
+                const Shared& run_shared) {
+  Timings best;
+  for (int repeat = 0; repeat < repeats; ++repeat) {
+    best.one = std::min(best.one, alone(1, rank, communicator, run_alone));
+    best.distributed = std::min(best.distributed, together(communicator, run_shared));
+    best.threads = std::min(best.threads, alone(ranks, rank, communicator, run_alone));
+  }
+  return best;
+}
+
+double largest_column_difference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  double worst = 0.0;
+  for (Eigen::Index c = 0; c < b.cols(); ++c) {
+    worst = std::max(worst, (a.col(c) - b.col(c)).norm() / b.col(c).norm());
+  }
+  return worst;
 }
 
 double largest_relative_difference(const ReducedModel& a, const ReducedModel& b) {
@@ -101,13 +146,18 @@ double peak_memory_mb() {
 
 int main(int argc, char** argv) {
   const khz::mpi::Environment mpi(argc, argv);
-  CLI::App app{"Strong scaling of the reduced-polynomial precompute over MPI ranks"};
+  CLI::App app{
+      "Strong scaling of the reduced-polynomial precompute and the modal derivatives over MPI "
+      "ranks"};
   int cells = 40;
   std::vector<int> dimensions{15, 30};
+  std::vector<int> modes{10, 20};
   bool quick = false;
   int repeats = 2;
   app.add_option("--cells", cells, "Cells along the beam (cells/4 across): 6·cells³/16 tets");
   app.add_option("--r", dimensions, "Basis sizes r to time (comma-separated)")->delimiter(',');
+  app.add_option("--modes", modes, "Mode counts k whose derivatives to time (comma-separated)")
+      ->delimiter(',');
   app.add_option("--repeats", repeats, "Runs of each kind; the best is printed")
       ->check(CLI::PositiveNumber);
   app.add_flag("--quick", quick, "A small mesh and r = 6 (keeps the program working in CTest)");
@@ -115,6 +165,7 @@ int main(int argc, char** argv) {
   if (quick) {
     cells = 12;
     dimensions = {6};
+    modes = {4};
     repeats = 1;
   }
 
@@ -140,33 +191,55 @@ int main(int argc, char** argv) {
   for (const int r : dimensions) {
     const Basis basis = khz::bench::random_basis(model, r);
     std::optional<ReducedModel> single;
-    std::optional<ReducedModel> threaded;
     std::optional<ReducedModel> shared;
-    // Each figure is the best of `repeats` runs, interleaved, so that none is a cold first run.
-    double one = 1e300, distributed = 1e300, threads = 1e300;
-    for (int repeat = 0; repeat < repeats; ++repeat) {
-      one = std::min(one, alone(model, basis, 1, rank, group.communicator(), single));
-
-      MPI_Barrier(group.communicator());
-      const auto start = Clock::now();
-      {
-        const ScopedWorkerThreads bound(1);
-        ReducedModelOptions options;
-        options.group = &group;
-        shared = ReducedModel::precompute(model, basis, options);
-      }
-      MPI_Barrier(group.communicator());
-      distributed =
-          std::min(distributed, std::chrono::duration<double>(Clock::now() - start).count());
-
-      threads = std::min(threads, alone(model, basis, ranks, rank, group.communicator(), threaded));
-    }
+    const Timings t = best_of(
+        repeats, ranks, rank, group.communicator(),
+        [&] { single = ReducedModel::precompute(model, basis); },
+        [&] {
+          ReducedModelOptions options;
+          options.group = &group;
+          shared = ReducedModel::precompute(model, basis, options);
+        });
     if (rank == 0) {
       const double r4 = std::pow(static_cast<double>(r), 4);
-      std::printf("%4d %10.3f %10.3f %8.2f %9.0f%% %10.3f %8.2f %10.1e %12.0f %12.2f\n", r, one,
-                  distributed, one / distributed, 100.0 * one / distributed / ranks, threads,
-                  distributed / threads, largest_relative_difference(*shared, *single),
-                  1e9 * one / elements, 1e12 * one / elements / r4);
+      std::printf("%4d %10.3f %10.3f %8.2f %9.0f%% %10.3f %8.2f %10.1e %12.0f %12.2f\n", r, t.one,
+                  t.distributed, t.one / t.distributed, 100.0 * t.one / t.distributed / ranks,
+                  t.threads, t.distributed / t.threads,
+                  largest_relative_difference(*shared, *single), 1e9 * t.one / elements,
+                  1e12 * t.one / elements / r4);
+    }
+  }
+
+  // Modal derivatives of the beam clamped at x = 0: every rank factorizes K, each solves its
+  // share of the right-hand-side blocks.
+  const std::vector<int> clamped = vertices_in_box(
+      model.mesh().vertices,
+      Eigen::AlignedBox3d(Eigen::Vector3d(-1e-9, -1, -1), Eigen::Vector3d(1e-9, 1, 1)));
+  if (rank == 0) {
+    std::printf("\nmodal derivatives, %d ranks, the beam clamped at one end\n", ranks);
+    std::printf("%4s %6s %10s %10s %8s %10s %10s %8s %10s %12s\n", "k", "derivs", "1 rank s",
+                "ranks s", "speedup", "efficiency", "threads s", "rk/thr", "rel diff", "ms/deriv");
+  }
+  for (const int k : modes) {
+    LinearModesOptions mode_options;
+    mode_options.num_modes = k;
+    const LinearModes linear = compute_linear_modes(model, clamped, mode_options);
+    ModalDerivatives single;
+    ModalDerivatives shared;
+    const Timings t = best_of(
+        repeats, ranks, rank, group.communicator(),
+        [&] { single = compute_modal_derivatives(model, linear); },
+        [&] {
+          ModalDerivativesOptions options;
+          options.group = &group;
+          shared = compute_modal_derivatives(model, linear, options);
+        });
+    if (rank == 0) {
+      const auto count = static_cast<double>(single.vectors.cols());
+      std::printf("%4d %6.0f %10.3f %10.3f %8.2f %9.0f%% %10.3f %8.2f %10.1e %12.2f\n", k, count,
+                  t.one, t.distributed, t.one / t.distributed,
+                  100.0 * t.one / t.distributed / ranks, t.threads, t.distributed / t.threads,
+                  largest_column_difference(shared.vectors, single.vectors), 1e3 * t.one / count);
     }
   }
   // Every rank's peak memory, printed by rank 0 in rank order.

@@ -1,6 +1,6 @@
 // Modal derivatives (thesis §2.8.3 eq. 2.47 for anchored objects, §2.8.7 eq. 2.60 for free ones).
-#include <khz/reduced/stage_progress.hpp>
 #include "block_minres.hpp"
+#include "detail/shared_stage.hpp"
 #include "modal_problem.hpp"
 
 #include <khz/reduced/basis/modal_derivatives.hpp>
@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -37,39 +39,39 @@ void check_inputs(const FemModel& model, const LinearModes& modes,
 }
 
 // g(i, j) = (H : Ψⱼ) Ψᵢ for every wanted pair, full dofs, one Hessian contraction per mode j
-// (H is symmetric in all three indices, so g(i, j) = g(j, i)).
+// (H is symmetric in all three indices, so g(i, j) = g(j, i)). Shared: each process contracts
+// its share of the modes, and the columns are summed over the group (zeros elsewhere).
 Eigen::MatrixXd hessian_products(const FemModel& model, const LinearModes& modes,
                                  const std::vector<std::array<int, 2>>& pairs,
-                                 const ProgressCallback& callback) {
+                                 const ModalDerivativesOptions& options) {
   const Eigen::Index k = modes.modes.cols();
-  StageProgress progress(callback, "Hessian contractions", k);
-  Eigen::MatrixXd products(model.num_dofs(), static_cast<Eigen::Index>(pairs.size()));
-  for (int j = 0; j < k; ++j) {
-    const SparseMatrix contraction = model.hessian_contraction(modes.modes.col(j));
-    for (std::size_t c = 0; c < pairs.size(); ++c) {
-      if (pairs[c][1] != j) continue;
-      products.col(static_cast<Eigen::Index>(c)).noalias() =
-          contraction * modes.modes.col(pairs[c][0]);
+  detail::SharedStage stage(options.group, options.progress, "Hessian contractions", k);
+  Eigen::MatrixXd products =
+      Eigen::MatrixXd::Zero(model.num_dofs(), static_cast<Eigen::Index>(pairs.size()));
+  stage.run(k, 1, [&](std::int64_t first, std::int64_t last) {
+    for (auto j = static_cast<int>(first); j < last; ++j) {
+      const SparseMatrix contraction = model.hessian_contraction(modes.modes.col(j));
+      for (std::size_t c = 0; c < pairs.size(); ++c) {
+        if (pairs[c][1] != j) continue;
+        products.col(static_cast<Eigen::Index>(c)).noalias() =
+            contraction * modes.modes.col(pairs[c][0]);
+      }
     }
-    progress.advance();
-  }
+  });
+  stage.finish();
+  if (stage.shared())
+    options.group->sum({products.data(), static_cast<std::size_t>(products.size())});
   return products;
 }
 
-// Anchored: K Φᵢⱼ = −(H : Ψⱼ)Ψᵢ, one factorization, right-hand sides in blocks (eq. 2.47).
-void solve_anchored(const detail::ModalProblem& problem, const Eigen::MatrixXd& products,
-                    const ModalDerivativesOptions& options, ModalDerivatives& result) {
-  const Eigen::Index count = products.cols();
-  StageProgress progress(options.progress, "modal derivatives", count);
-  const SparseCholesky stiffness = problem.factorize_shifted();  // σ = 0: K itself
-  const Eigen::MatrixXd rhs = -problem.dofs().restrict_rows(products);
-  result.vectors.resize(products.rows(), count);
-  for (Eigen::Index first = 0; first < count; first += options.block_size) {
-    const Eigen::Index columns = std::min<Eigen::Index>(options.block_size, count - first);
-    result.vectors.middleCols(first, columns) = problem.dofs().expand_rows(
-        stiffness.solve(Eigen::MatrixXd(rhs.middleCols(first, columns))));
-    progress.advance(columns);
-  }
+// Anchored: K Φᵢⱼ = −(H : Ψⱼ)Ψᵢ with the factorization of K, derivatives [first, last)
+// (eq. 2.47).
+void solve_anchored(const detail::ModalProblem& problem, const SparseCholesky& stiffness,
+                    const Eigen::MatrixXd& products, Eigen::Index first, Eigen::Index last,
+                    ModalDerivatives& result) {
+  const Eigen::MatrixXd rhs =
+      -problem.dofs().restrict_rows(products.middleCols(first, last - first));
+  result.vectors.middleCols(first, last - first) = problem.dofs().expand_rows(stiffness.solve(rhs));
 }
 
 // Unconstrained: (K − λᵢM) Φᵢⱼ = (MΨᵢΨᵢᵀ − I)(H : Ψⱼ)Ψᵢ (eq. 2.60). K − λᵢM is singular along
@@ -78,18 +80,16 @@ void solve_anchored(const detail::ModalProblem& problem, const Eigen::MatrixXd& 
 // eigenvalue equals λᵢ to 1e-6 (symmetric shapes) make the derivative ambiguous along them, so
 // the whole cluster is treated like Ψᵢ: projected out of the right-hand side, added to the
 // regularizer, and removed from the solution.
-void solve_unconstrained(const detail::ModalProblem& problem, const LinearModes& modes,
-                         const std::vector<std::array<int, 2>>& pairs,
-                         const Eigen::MatrixXd& products, const ModalDerivativesOptions& options,
-                         ModalDerivatives& result) {
-  const Eigen::Index count = products.cols();
-  StageProgress progress(options.progress, "modal derivatives", count);
-  const SparseCholesky preconditioner = problem.factorize_shifted();  // K − σM, σ < 0
-  const SparseMatrix& mass = problem.mass();
+/// Per mode i of an unconstrained object: its cluster Ψ_C (modes with λ equal to λᵢ within
+/// 1e-6) and MΨ_C.
+struct ModeClusters {
+  std::vector<Eigen::MatrixXd> psi;
+  std::vector<Eigen::MatrixXd> mass_psi;
+};
+
+ModeClusters mode_clusters(const detail::ModalProblem& problem, const LinearModes& modes) {
   const Eigen::Index k = modes.modes.cols();
-  // Per mode i: its cluster Ψ_C (modes with λ equal to λᵢ within 1e-6) and MΨ_C.
-  std::vector<Eigen::MatrixXd> psi(static_cast<std::size_t>(k));
-  std::vector<Eigen::MatrixXd> mass_psi(static_cast<std::size_t>(k));
+  ModeClusters clusters;
   for (Eigen::Index i = 0; i < k; ++i) {
     std::vector<Eigen::Index> cluster;
     for (Eigen::Index m = 0; m < k; ++m) {
@@ -97,52 +97,62 @@ void solve_unconstrained(const detail::ModalProblem& problem, const LinearModes&
         cluster.push_back(m);
       }
     }
-    psi[static_cast<std::size_t>(i)] = modes.modes(Eigen::all, cluster);
-    mass_psi[static_cast<std::size_t>(i)] = mass * psi[static_cast<std::size_t>(i)];
+    clusters.psi.push_back(modes.modes(Eigen::all, cluster));
+    clusters.mass_psi.push_back(problem.mass() * clusters.psi.back());
   }
-  result.vectors.resize(products.rows(), count);
+  return clusters;
+}
+
+// Derivatives [first, last) as one block of right-hand sides in lockstep; check_cancel is
+// called every MINRES iteration.
+template <typename CheckCancel>
+void solve_unconstrained(const detail::ModalProblem& problem, const LinearModes& modes,
+                         const ModeClusters& clusters, const SparseCholesky& preconditioner,
+                         const std::vector<std::array<int, 2>>& pairs,
+                         const Eigen::MatrixXd& products, Eigen::Index first, Eigen::Index last,
+                         const ModalDerivativesOptions& options, const CheckCancel& check_cancel,
+                         ModalDerivatives& result) {
+  const SparseMatrix& mass = problem.mass();
+  const std::vector<Eigen::MatrixXd>& psi = clusters.psi;
+  const std::vector<Eigen::MatrixXd>& mass_psi = clusters.mass_psi;
   // Blocks mix pairs of different i: each column has its own operator K − λᵢM + Ψ_CΨ_Cᵀ, but
   // K·X, M·X and the preconditioner solve still run on the whole block at once.
-  for (Eigen::Index first = 0; first < count; first += options.block_size) {
-    const Eigen::Index columns = std::min<Eigen::Index>(options.block_size, count - first);
-    const auto mode_of = [&](Eigen::Index c) {
-      return static_cast<std::size_t>(pairs[static_cast<std::size_t>(first + c)][0]);
-    };
-    Eigen::VectorXd lambda(columns);
-    Eigen::MatrixXd rhs = -products.middleCols(first, columns);
-    for (Eigen::Index c = 0; c < columns; ++c) {
-      const std::size_t i = mode_of(c);
-      lambda(c) = modes.eigenvalues(static_cast<Eigen::Index>(i));
-      rhs.col(c) -= mass_psi[i] * (psi[i].transpose() * rhs.col(c));  // (MΨΨᵀ − I) g
-    }
-    const auto apply = [&](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) {
-      y.noalias() = problem.stiffness() * x;
-      y.noalias() -= (mass * x) * lambda.asDiagonal();
-      for (Eigen::Index c = 0; c < columns; ++c) {
-        y.col(c).noalias() += psi[mode_of(c)] * (psi[mode_of(c)].transpose() * x.col(c));
-      }
-    };
-    const auto precondition = [&](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) {
-      y = preconditioner.solve(x);
-    };
-    const auto check_cancel = [&] { progress.advance(0); };
-    Eigen::MatrixXd phi;
-    const detail::MinresReport report = detail::block_minres(
-        apply, precondition, rhs, options.tolerance, options.max_iterations, check_cancel, phi);
-    if (!report.converged) {
-      throw SolverError("MINRES did not converge for derivatives " + std::to_string(first) + "–" +
-                        std::to_string(first + columns - 1) + " in " +
-                        std::to_string(options.max_iterations) + " iterations (relative residual " +
-                        std::to_string(report.worst_relative_residual) + ")");
-    }
-    for (Eigen::Index c = 0; c < columns; ++c) {
-      const std::size_t i = mode_of(c);
-      phi.col(c) -= psi[i] * (mass_psi[i].transpose() * phi.col(c));  // Ψᵢᵀ M Φᵢⱼ = 0
-    }
-    result.vectors.middleCols(first, columns) = phi;
-    result.max_minres_iterations = std::max(result.max_minres_iterations, report.iterations);
-    progress.advance(columns);
+  const Eigen::Index columns = last - first;
+  const auto mode_of = [&](Eigen::Index c) {
+    return static_cast<std::size_t>(pairs[static_cast<std::size_t>(first + c)][0]);
+  };
+  Eigen::VectorXd lambda(columns);
+  Eigen::MatrixXd rhs = -products.middleCols(first, columns);
+  for (Eigen::Index c = 0; c < columns; ++c) {
+    const std::size_t i = mode_of(c);
+    lambda(c) = modes.eigenvalues(static_cast<Eigen::Index>(i));
+    rhs.col(c) -= mass_psi[i] * (psi[i].transpose() * rhs.col(c));  // (MΨΨᵀ − I) g
   }
+  const auto apply = [&](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) {
+    y.noalias() = problem.stiffness() * x;
+    y.noalias() -= (mass * x) * lambda.asDiagonal();
+    for (Eigen::Index c = 0; c < columns; ++c) {
+      y.col(c).noalias() += psi[mode_of(c)] * (psi[mode_of(c)].transpose() * x.col(c));
+    }
+  };
+  const auto precondition = [&](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) {
+    y = preconditioner.solve(x);
+  };
+  Eigen::MatrixXd phi;
+  const detail::MinresReport report = detail::block_minres(
+      apply, precondition, rhs, options.tolerance, options.max_iterations, check_cancel, phi);
+  if (!report.converged) {
+    throw SolverError("MINRES did not converge for derivatives " + std::to_string(first) + "–" +
+                      std::to_string(last - 1) + " in " + std::to_string(options.max_iterations) +
+                      " iterations (relative residual " +
+                      std::to_string(report.worst_relative_residual) + ")");
+  }
+  for (Eigen::Index c = 0; c < columns; ++c) {
+    const std::size_t i = mode_of(c);
+    phi.col(c) -= psi[i] * (mass_psi[i].transpose() * phi.col(c));  // Ψᵢᵀ M Φᵢⱼ = 0
+  }
+  result.vectors.middleCols(first, columns) = phi;
+  result.max_minres_iterations = std::max(result.max_minres_iterations, report.iterations);
 }
 
 }  // namespace
@@ -156,11 +166,31 @@ ModalDerivatives compute_modal_derivatives(const FemModel& model, const LinearMo
   for (int i = 0; i < k; ++i) {
     for (int j = problem.unconstrained() ? 0 : i; j < k; ++j) result.pairs.push_back({i, j});
   }
-  const Eigen::MatrixXd products = hessian_products(model, modes, result.pairs, options.progress);
+  const Eigen::MatrixXd products = hessian_products(model, modes, result.pairs, options);
+  const auto count = static_cast<Eigen::Index>(result.pairs.size());
+  detail::SharedStage stage(options.group, options.progress, "modal derivatives", count);
+  // K (anchored) or K − σM with σ < 0 (unconstrained, MINRES's preconditioner), factorized by
+  // every process; a failure on one stops all.
+  std::optional<SparseCholesky> factor;
+  stage.agree([&] { factor.emplace(problem.factorize_shifted()); });
+  result.vectors = Eigen::MatrixXd::Zero(products.rows(), count);  // zeros: summed when shared
   if (problem.unconstrained()) {
-    solve_unconstrained(problem, modes, result.pairs, products, options, result);
+    const ModeClusters clusters = mode_clusters(problem, modes);
+    stage.run(count, options.block_size, [&](std::int64_t first, std::int64_t last) {
+      solve_unconstrained(
+          problem, modes, clusters, *factor, result.pairs, products, first, last, options,
+          [&] { stage.poll(); }, result);
+    });
   } else {
-    solve_anchored(problem, products, options, result);
+    stage.run(count, options.block_size, [&](std::int64_t first, std::int64_t last) {
+      solve_anchored(problem, *factor, products, first, last, result);
+    });
+  }
+  stage.finish();
+  if (stage.shared()) {
+    options.group->sum({result.vectors.data(), static_cast<std::size_t>(result.vectors.size())});
+    result.max_minres_iterations = static_cast<int>(
+        detail::largest_on_every_process(*options.group, result.max_minres_iterations));
   }
   return result;
 }

@@ -62,9 +62,12 @@ void SharedStage::fail(std::exception_ptr failure) {
 
 std::int64_t SharedStage::most_rounds(std::int64_t rounds) {
   if (!shared()) return rounds;
-  const double mine = static_cast<double>(rounds);
-  const std::vector<double> counts = from_every_process(*m_group, {&mine, 1});
-  return static_cast<std::int64_t>(*std::max_element(counts.begin(), counts.end()));
+  return static_cast<std::int64_t>(largest_on_every_process(*m_group, static_cast<double>(rounds)));
+}
+
+double largest_on_every_process(WorkGroup& group, double value) {
+  const std::vector<double> all = from_every_process(group, {&value, 1});
+  return *std::max_element(all.begin(), all.end());
 }
 
 void SharedStage::check_in(std::int64_t done) {

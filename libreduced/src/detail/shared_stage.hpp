@@ -76,6 +76,11 @@ class SharedStage {
   /// @throws as run().
   void finish();
 
+  /// Reports the progress so far again, within a long unit of work, so that a cancel is seen:
+  /// without a group a stop throws Cancelled at once; with one it stops every process at the
+  /// next checkpoint.
+  void poll() { report(); }
+
  private:
   void fail(std::exception_ptr failure);
   /// The largest `rounds` over the group (this process's own without one).
@@ -95,6 +100,9 @@ class SharedStage {
   GroupStatus m_mine;                // what this process brings to the next checkpoint
   std::exception_ptr m_own_failure;  // rethrown here when the group stops for it
 };
+
+/// Collective: the largest `value` passed by the processes of `group`.
+double largest_on_every_process(WorkGroup& group, double value);
 
 /// Collective: whether every process of `group` passed the same `values` (e.g. sizes that must
 /// agree before partial sums are added), compared exactly; true without a group.

@@ -6,6 +6,7 @@
 #include <khz/reduced/export.hpp>
 #include <khz/reduced/fem/fem_model.hpp>
 #include <khz/reduced/progress.hpp>
+#include <khz/reduced/work_group.hpp>
 
 #include <Eigen/Core>
 
@@ -27,6 +28,17 @@ struct ModalDerivativesOptions {
   /// Reports stage "Hessian contractions" (one per mode) and "modal derivatives" (one per
   /// derivative). Cancel by returning false.
   ProgressCallback progress;
+  /// The processes that share the computation (e.g. MPI ranks, khz/mpi/mpi_work_group.hpp),
+  /// each calling compute_modal_derivatives() with the same model, modes and options; null:
+  /// this process alone. Each process contracts its share of the modes and solves its share of
+  /// the derivatives (whole blocks of block_size right-hand sides), and every process returns
+  /// all of them (the columns are summed over the group). Every process factorizes the whole
+  /// matrix: sharing divides the time of the solves, not the memory of the factor. Anchored
+  /// objects: the result equals one process's to round-off; unconstrained: to MINRES's
+  /// tolerance, since the blocks are formed from each process's share. Progress counts the
+  /// group's work at the end of each block; a failure or cancel on one process ends every
+  /// process (WorkGroup).
+  WorkGroup* group = nullptr;
 };
 
 /// The derivatives Φᵢⱼ, unnormalized, on the full dofs (zero at fixed vertices).

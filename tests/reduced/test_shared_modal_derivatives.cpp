@@ -1,0 +1,137 @@
+// Modal derivatives shared among the processes of a WorkGroup (threads standing in for MPI
+// ranks; tests/mpi runs the same under mpirun): every process gets every derivative, equal to
+// one process's (anchored: to round-off; free: within MINRES's tolerance), and a failure or a
+// cancel on one process stops all.
+#include <khz/reduced/basis/linear_modes.hpp>
+#include <khz/reduced/basis/modal_derivatives.hpp>
+#include <khz/reduced/errors.hpp>
+#include <khz/reduced/fem/fem_model.hpp>
+#include <khz/reduced/meshing/box_mesh.hpp>
+#include <khz/reduced/solvers/fixed_dofs.hpp>
+#include <khz/test/thread_work_group.hpp>
+
+#include <gtest/gtest.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace khz::reduced {
+namespace {
+
+using test::ThreadWorkGroup;
+
+/// A 1 × 0.3 × 0.2 bar of 10 × 3 × 3 cells, clamped at x = 0 or free.
+struct Bar {
+  explicit Bar(bool anchored)
+      : model(box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1.0, 0.3, 0.2),
+                           Eigen::Vector3i(10, 3, 3)),
+              {Material::stvk(1e6, 0.3, 1000.0)}) {
+    std::vector<int> fixed;
+    if (anchored) {
+      fixed = vertices_in_box(
+          model.mesh().vertices,
+          Eigen::AlignedBox3d(Eigen::Vector3d(-1e-9, -1, -1), Eigen::Vector3d(1e-9, 1, 1)));
+    }
+    LinearModesOptions options;
+    options.num_modes = 6;
+    modes = compute_linear_modes(model, fixed, options);
+  }
+  FemModel model;
+  LinearModes modes;
+};
+
+struct Outcome {
+  std::optional<ModalDerivatives> derivatives;
+  std::string error;
+  std::string cancelled;
+};
+
+std::vector<Outcome> run_shared(const Bar& bar, int ranks,
+                                const std::function<void(int, ModalDerivativesOptions&)>& adjust) {
+  ThreadWorkGroup group(ranks);
+  std::vector<Outcome> outcomes(static_cast<std::size_t>(ranks));
+  group.run([&](int rank, WorkGroup& member) {
+    ModalDerivativesOptions options;
+    options.block_size = 5;  // several blocks per rank, not aligned with the shares
+    options.group = &member;
+    adjust(rank, options);
+    Outcome& outcome = outcomes[static_cast<std::size_t>(rank)];
+    try {
+      outcome.derivatives = compute_modal_derivatives(bar.model, bar.modes, options);
+    } catch (const Cancelled& cancel) {
+      outcome.cancelled = cancel.what();
+    } catch (const Error& error) {
+      outcome.error = error.what();
+    }
+  });
+  return outcomes;
+}
+
+double largest_relative_difference(const ModalDerivatives& a, const ModalDerivatives& b) {
+  double worst = 0.0;
+  for (Eigen::Index c = 0; c < b.vectors.cols(); ++c) {
+    worst = std::max(worst, (a.vectors.col(c) - b.vectors.col(c)).norm() / b.vectors.col(c).norm());
+  }
+  return worst;
+}
+
+TEST(SharedModalDerivatives, AnchoredEqualOneProcessToRoundOffOnEveryRank) {
+  const Bar bar(true);
+  ModalDerivativesOptions alone_options;
+  alone_options.block_size = 5;
+  const ModalDerivatives alone = compute_modal_derivatives(bar.model, bar.modes, alone_options);
+  ASSERT_EQ(alone.vectors.cols(), 21);
+  for (int ranks : {2, 3}) {
+    const std::vector<Outcome> outcomes = run_shared(bar, ranks, [](int, auto&) {});
+    for (const Outcome& outcome : outcomes) {
+      ASSERT_TRUE(outcome.derivatives) << outcome.error << outcome.cancelled;
+      EXPECT_EQ(outcome.derivatives->pairs, alone.pairs);
+      EXPECT_LT(largest_relative_difference(*outcome.derivatives, alone), 1e-13) << ranks;
+    }
+  }
+}
+
+TEST(SharedModalDerivatives, FreeEqualOneProcessWithinTheSolverTolerance) {
+  const Bar bar(false);
+  ModalDerivativesOptions alone_options;
+  alone_options.block_size = 5;
+  const ModalDerivatives alone = compute_modal_derivatives(bar.model, bar.modes, alone_options);
+  ASSERT_EQ(alone.vectors.cols(), 36);
+  // Blocks formed from each rank's share: other lockstep groups, each column solved to the
+  // relative residual 1e-10 either way.
+  const std::vector<Outcome> outcomes = run_shared(bar, 3, [](int, auto&) {});
+  for (const Outcome& outcome : outcomes) {
+    ASSERT_TRUE(outcome.derivatives) << outcome.error << outcome.cancelled;
+    EXPECT_LT(largest_relative_difference(*outcome.derivatives, alone), 1e-6);
+    EXPECT_GT(outcome.derivatives->max_minres_iterations, 0);
+    EXPECT_EQ(outcome.derivatives->max_minres_iterations,
+              outcomes[0].derivatives->max_minres_iterations);  // the group's largest
+  }
+}
+
+TEST(SharedModalDerivatives, ACancelOnOneRankStopsEveryRank) {
+  const Bar bar(true);
+  const std::vector<Outcome> outcomes = run_shared(bar, 2, [](int rank, auto& options) {
+    options.progress = [rank](const Progress& p) {
+      return !(rank == 1 && p.stage == "modal derivatives" && p.done > 0);
+    };
+  });
+  EXPECT_EQ(outcomes[1].cancelled, "cancelled during modal derivatives");
+  EXPECT_EQ(outcomes[0].cancelled, "modal derivatives cancelled on rank 1 of 2");
+}
+
+TEST(SharedModalDerivatives, BadOptionsOnOneRankFailEveryRankNamingIt) {
+  const Bar bar(false);
+  const std::vector<Outcome> outcomes = run_shared(bar, 2, [](int rank, auto& options) {
+    if (rank == 1) options.max_iterations = 1;  // MINRES cannot converge in one iteration
+  });
+  EXPECT_NE(outcomes[1].error.find("MINRES did not converge"), std::string::npos)
+      << outcomes[1].error;
+  EXPECT_NE(outcomes[0].error.find("modal derivatives failed on rank 1 of 2: MINRES"),
+            std::string::npos)
+      << outcomes[0].error;
+}
+
+}  // namespace
+}  // namespace khz::reduced
