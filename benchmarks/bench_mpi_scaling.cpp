@@ -8,7 +8,8 @@
 // relative difference from rank 0's own (round-off), the time per element and per element and
 // r⁴ (the cost model docs/SCALING.md extrapolates from) and each rank's peak memory. The modal
 // derivatives (the beam clamped at one end, k modes, k(k+1)/2 derivatives) get the same table,
-// with the time per derivative.
+// with the time per derivative, and the time with the factor distributed over the ranks by
+// MUMPS (khz::mpi::MumpsFactorization) with its difference from rank 0's own.
 //
 //   mpiexec -n 2 --bind-to none bench_mpi_scaling [--cells 40] [--r 15,30] [--modes 10,20]
 //                                                 [--quick]
@@ -18,6 +19,7 @@
 
 #include <khz/mpi/environment.hpp>
 #include <khz/mpi/mpi_work_group.hpp>
+#include <khz/mpi/mumps_factorization.hpp>
 #include <khz/reduced/basis/linear_modes.hpp>
 #include <khz/reduced/basis/modal_derivatives.hpp>
 #include <khz/reduced/meshing/box_mesh.hpp>
@@ -217,8 +219,9 @@ int main(int argc, char** argv) {
       Eigen::AlignedBox3d(Eigen::Vector3d(-1e-9, -1, -1), Eigen::Vector3d(1e-9, 1, 1)));
   if (rank == 0) {
     std::printf("\nmodal derivatives, %d ranks, the beam clamped at one end\n", ranks);
-    std::printf("%4s %6s %10s %10s %8s %10s %10s %8s %10s %12s\n", "k", "derivs", "1 rank s",
-                "ranks s", "speedup", "efficiency", "threads s", "rk/thr", "rel diff", "ms/deriv");
+    std::printf("%4s %6s %10s %10s %8s %10s %10s %8s %10s %12s %10s %10s\n", "k", "derivs",
+                "1 rank s", "ranks s", "speedup", "efficiency", "threads s", "rk/thr", "rel diff",
+                "ms/deriv", "MUMPS s", "MUMPS diff");
   }
   for (const int k : modes) {
     LinearModesOptions mode_options;
@@ -234,12 +237,26 @@ int main(int argc, char** argv) {
           options.group = &group;
           shared = compute_modal_derivatives(model, linear, options);
         });
+    // The factor distributed over the ranks by MUMPS: every rank in every solve.
+    ModalDerivatives distributed;
+    double mumps = 1e300;
+    for (int repeat = 0; repeat < repeats; ++repeat) {
+      mumps = std::min(mumps, together(group.communicator(), [&] {
+                         ModalDerivativesOptions options;
+                         options.group = &group;
+                         options.factorize =
+                             khz::mpi::MumpsFactorization::factorize(group.communicator());
+                         distributed = compute_modal_derivatives(model, linear, options);
+                       }));
+    }
     if (rank == 0) {
       const auto count = static_cast<double>(single.vectors.cols());
-      std::printf("%4d %6.0f %10.3f %10.3f %8.2f %9.0f%% %10.3f %8.2f %10.1e %12.2f\n", k, count,
-                  t.one, t.distributed, t.one / t.distributed,
-                  100.0 * t.one / t.distributed / ranks, t.threads, t.distributed / t.threads,
-                  largest_column_difference(shared.vectors, single.vectors), 1e3 * t.one / count);
+      std::printf(
+          "%4d %6.0f %10.3f %10.3f %8.2f %9.0f%% %10.3f %8.2f %10.1e %12.2f %10.3f %10.1e\n", k,
+          count, t.one, t.distributed, t.one / t.distributed, 100.0 * t.one / t.distributed / ranks,
+          t.threads, t.distributed / t.threads,
+          largest_column_difference(shared.vectors, single.vectors), 1e3 * t.one / count, mumps,
+          largest_column_difference(distributed.vectors, single.vectors));
     }
   }
   // Every rank's peak memory, printed by rank 0 in rank order.

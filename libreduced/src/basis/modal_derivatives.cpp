@@ -66,7 +66,7 @@ Eigen::MatrixXd hessian_products(const FemModel& model, const LinearModes& modes
 
 // Anchored: K Φᵢⱼ = −(H : Ψⱼ)Ψᵢ with the factorization of K, derivatives [first, last)
 // (eq. 2.47).
-void solve_anchored(const detail::ModalProblem& problem, const SparseCholesky& stiffness,
+void solve_anchored(const detail::ModalProblem& problem, SymmetricFactorization& stiffness,
                     const Eigen::MatrixXd& products, Eigen::Index first, Eigen::Index last,
                     ModalDerivatives& result) {
   const Eigen::MatrixXd rhs =
@@ -107,7 +107,7 @@ ModeClusters mode_clusters(const detail::ModalProblem& problem, const LinearMode
 // called every MINRES iteration.
 template <typename CheckCancel>
 void solve_unconstrained(const detail::ModalProblem& problem, const LinearModes& modes,
-                         const ModeClusters& clusters, const SparseCholesky& preconditioner,
+                         const ModeClusters& clusters, SymmetricFactorization& preconditioner,
                          const std::vector<std::array<int, 2>>& pairs,
                          const Eigen::MatrixXd& products, Eigen::Index first, Eigen::Index last,
                          const ModalDerivativesOptions& options, const CheckCancel& check_cancel,
@@ -170,24 +170,32 @@ ModalDerivatives compute_modal_derivatives(const FemModel& model, const LinearMo
   const auto count = static_cast<Eigen::Index>(result.pairs.size());
   detail::SharedStage stage(options.group, options.progress, "modal derivatives", count);
   // K (anchored) or K − σM with σ < 0 (unconstrained, MINRES's preconditioner), factorized by
-  // every process; a failure on one stops all.
-  std::optional<SparseCholesky> factor;
-  stage.agree([&] { factor.emplace(problem.factorize_shifted()); });
+  // every process (or by all together, for a collective factorization); a failure on one stops
+  // all.
+  std::unique_ptr<SymmetricFactorization> factor;
+  stage.agree([&] { factor = problem.factorize_shifted(options.factorize); });
   result.vectors = Eigen::MatrixXd::Zero(products.rows(), count);  // zeros: summed when shared
-  if (problem.unconstrained()) {
-    const ModeClusters clusters = mode_clusters(problem, modes);
-    stage.run(count, options.block_size, [&](std::int64_t first, std::int64_t last) {
+  std::optional<ModeClusters> clusters;
+  if (problem.unconstrained()) clusters.emplace(mode_clusters(problem, modes));
+  const auto solve_block = [&](std::int64_t first, std::int64_t last) {
+    if (clusters) {
       solve_unconstrained(
-          problem, modes, clusters, *factor, result.pairs, products, first, last, options,
+          problem, modes, *clusters, *factor, result.pairs, products, first, last, options,
           [&] { stage.poll(); }, result);
-    });
-  } else {
-    stage.run(count, options.block_size, [&](std::int64_t first, std::int64_t last) {
+    } else {
       solve_anchored(problem, *factor, products, first, last, result);
-    });
+    }
+  };
+  // A collective factorization needs every process in every solve: each solves every block,
+  // and there is nothing to sum afterwards.
+  const bool collective = factor->collective();
+  if (collective) {
+    stage.run_on_every_process(count, options.block_size, solve_block);
+  } else {
+    stage.run(count, options.block_size, solve_block);
   }
   stage.finish();
-  if (stage.shared()) {
+  if (stage.shared() && !collective) {
     options.group->sum({result.vectors.data(), static_cast<std::size_t>(result.vectors.size())});
     result.max_minres_iterations = static_cast<int>(
         detail::largest_on_every_process(*options.group, result.max_minres_iterations));

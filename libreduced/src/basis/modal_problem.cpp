@@ -85,6 +85,26 @@ SparseCholesky ModalProblem::factorize_shifted() const {
   return cholesky;
 }
 
+namespace {
+
+/// CHOLMOD's factorization as a SymmetricFactorization.
+class CholeskyFactorization final : public SymmetricFactorization {
+ public:
+  explicit CholeskyFactorization(SparseCholesky cholesky) : m_cholesky(std::move(cholesky)) {}
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) override { return m_cholesky.solve(rhs); }
+
+ private:
+  SparseCholesky m_cholesky;
+};
+
+}  // namespace
+
+std::unique_ptr<SymmetricFactorization> ModalProblem::factorize_shifted(
+    const Factorize& factorize) const {
+  if (factorize) return factorize(m_stiffness - m_shift * m_mass);
+  return std::make_unique<CholeskyFactorization>(factorize_shifted());
+}
+
 Eigen::Index count_components(const VolumeMesh& mesh) {
   std::vector<Eigen::Index> labels = component_labels(mesh);
   std::sort(labels.begin(), labels.end());

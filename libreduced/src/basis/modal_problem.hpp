@@ -5,9 +5,11 @@
 #include <khz/reduced/fem/fem_model.hpp>
 #include <khz/reduced/solvers/fixed_dofs.hpp>
 #include <khz/reduced/solvers/sparse_cholesky.hpp>
+#include <khz/reduced/solvers/symmetric_factorization.hpp>
 
 #include <Eigen/Core>
 
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -33,6 +35,9 @@ class ModalProblem {
   /// @throws SolverError if it is not positive definite; for an anchored object the message
   ///         says the anchors leave a rigid motion.
   SparseCholesky factorize_shifted() const;
+  /// K − σM made with `factorize`, or by factorize_shifted() when it is empty.
+  /// @throws SolverError as factorize_shifted(), or what `factorize` throws.
+  std::unique_ptr<SymmetricFactorization> factorize_shifted(const Factorize& factorize) const;
 
  private:
   std::vector<int> m_fixed;

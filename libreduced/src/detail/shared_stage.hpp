@@ -57,6 +57,26 @@ class SharedStage {
     }
   }
 
+  /// Runs all `count` units on every process, `per_round` at a time (work the processes must do
+  /// together, e.g. the solves of a factorization distributed over them), with a checkpoint
+  /// after each round that credits the round's units once (the first process's count).
+  /// @throws as run().
+  template <typename Work>
+  void run_on_every_process(std::int64_t count, std::int64_t per_round, const Work& work) {
+    const bool counts = !m_group || m_group->rank() == 0;
+    for (std::int64_t first = 0; first < count; first += per_round) {
+      const std::int64_t last = std::min(count, first + per_round);
+      if (m_mine.state == GroupStatus::State::running) {
+        try {
+          work(first, last);
+        } catch (...) {
+          fail(std::current_exception());
+        }
+      }
+      check_in(counts ? last - first : 0);
+    }
+  }
+
   /// Runs `step` on this process (e.g. checking its inputs), then meets the others, so that
   /// a step that throws on one process stops them all before their next collective.
   /// @throws as run().

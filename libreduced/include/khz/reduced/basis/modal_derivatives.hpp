@@ -6,6 +6,7 @@
 #include <khz/reduced/export.hpp>
 #include <khz/reduced/fem/fem_model.hpp>
 #include <khz/reduced/progress.hpp>
+#include <khz/reduced/solvers/symmetric_factorization.hpp>
 #include <khz/reduced/work_group.hpp>
 
 #include <Eigen/Core>
@@ -39,6 +40,12 @@ struct ModalDerivativesOptions {
   /// group's work at the end of each block; a failure or cancel on one process ends every
   /// process (WorkGroup).
   WorkGroup* group = nullptr;
+  /// Makes the factorization of K (anchored) or of MINRES's preconditioner K − σM (free), on
+  /// the free dofs; empty: CHOLMOD on every process. A collective factorization (its factor
+  /// distributed over the processes of `group`, e.g. khz::mpi::MumpsFactorization::factorize())
+  /// needs every process of the group in every solve: each process then solves every block,
+  /// and the group shares the factor's memory and the work inside each solve instead.
+  Factorize factorize;
 };
 
 /// The derivatives Φᵢⱼ, unnormalized, on the full dofs (zero at fixed vertices).
