@@ -2,12 +2,9 @@
 // ranks; tests/mpi runs the same under mpirun): every process gets every derivative, equal to
 // one process's (anchored: to round-off; free: within MINRES's tolerance), and a failure or a
 // cancel on one process stops all.
-#include <khz/reduced/basis/linear_modes.hpp>
 #include <khz/reduced/basis/modal_derivatives.hpp>
 #include <khz/reduced/errors.hpp>
-#include <khz/reduced/fem/fem_model.hpp>
-#include <khz/reduced/meshing/box_mesh.hpp>
-#include <khz/reduced/solvers/fixed_dofs.hpp>
+#include <khz/test/derivative_bar.hpp>
 #include <khz/test/thread_work_group.hpp>
 
 #include <gtest/gtest.h>
@@ -21,25 +18,7 @@ namespace {
 
 using test::ThreadWorkGroup;
 
-/// A 1 × 0.3 × 0.2 bar of 10 × 3 × 3 cells, clamped at x = 0 or free.
-struct Bar {
-  explicit Bar(bool anchored)
-      : model(box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1.0, 0.3, 0.2),
-                           Eigen::Vector3i(10, 3, 3)),
-              {Material::stvk(1e6, 0.3, 1000.0)}) {
-    std::vector<int> fixed;
-    if (anchored) {
-      fixed = vertices_in_box(
-          model.mesh().vertices,
-          Eigen::AlignedBox3d(Eigen::Vector3d(-1e-9, -1, -1), Eigen::Vector3d(1e-9, 1, 1)));
-    }
-    LinearModesOptions options;
-    options.num_modes = 6;
-    modes = compute_linear_modes(model, fixed, options);
-  }
-  FemModel model;
-  LinearModes modes;
-};
+using Bar = test::DerivativeBar;
 
 struct Outcome {
   std::optional<ModalDerivatives> derivatives;
@@ -68,14 +47,6 @@ std::vector<Outcome> run_shared(const Bar& bar, int ranks,
   return outcomes;
 }
 
-double largest_relative_difference(const ModalDerivatives& a, const ModalDerivatives& b) {
-  double worst = 0.0;
-  for (Eigen::Index c = 0; c < b.vectors.cols(); ++c) {
-    worst = std::max(worst, (a.vectors.col(c) - b.vectors.col(c)).norm() / b.vectors.col(c).norm());
-  }
-  return worst;
-}
-
 TEST(SharedModalDerivatives, AnchoredEqualOneProcessToRoundOffOnEveryRank) {
   const Bar bar(true);
   ModalDerivativesOptions alone_options;
@@ -87,7 +58,8 @@ TEST(SharedModalDerivatives, AnchoredEqualOneProcessToRoundOffOnEveryRank) {
     for (const Outcome& outcome : outcomes) {
       ASSERT_TRUE(outcome.derivatives) << outcome.error << outcome.cancelled;
       EXPECT_EQ(outcome.derivatives->pairs, alone.pairs);
-      EXPECT_LT(largest_relative_difference(*outcome.derivatives, alone), 1e-13) << ranks;
+      EXPECT_LT(test::largest_column_difference(outcome.derivatives->vectors, alone.vectors), 1e-13)
+          << ranks;
     }
   }
 }
@@ -103,7 +75,7 @@ TEST(SharedModalDerivatives, FreeEqualOneProcessWithinTheSolverTolerance) {
   const std::vector<Outcome> outcomes = run_shared(bar, 3, [](int, auto&) {});
   for (const Outcome& outcome : outcomes) {
     ASSERT_TRUE(outcome.derivatives) << outcome.error << outcome.cancelled;
-    EXPECT_LT(largest_relative_difference(*outcome.derivatives, alone), 1e-6);
+    EXPECT_LT(test::largest_column_difference(outcome.derivatives->vectors, alone.vectors), 1e-6);
     EXPECT_GT(outcome.derivatives->max_minres_iterations, 0);
     EXPECT_EQ(outcome.derivatives->max_minres_iterations,
               outcomes[0].derivatives->max_minres_iterations);  // the group's largest
