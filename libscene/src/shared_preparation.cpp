@@ -58,7 +58,8 @@ std::vector<Task> missing_products(const SceneDescription& scene, ProductCache& 
 /// file names), so that all deal them out alike.
 bool same_list_everywhere(reduced::WorkGroup& group, const std::vector<Task>& tasks) {
   std::string names;
-  for (const Task& task : tasks) names += task.files.back().path.string() + '\n';
+  for (const Task& task : tasks)
+    names += task.files.back().path.filename().string() + '\n';  // not where it is mounted
   // 40 bits of the hash: exact in a double, as the sum below needs.
   const double mine[2] = {
       static_cast<double>(tasks.size()),

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `mpiexec -n 2 khz prep` with rank 1 killed (SIGKILL) while it computes a product: the job ends
-# with an error naming the rank, the cache keeps only complete products, and the next
-# preparation (one process) computes what is missing and leaves no temporary file behind.
+# with the launcher's error naming the rank and rank 0's own, the cache keeps only complete
+# products, and the next preparation (one process) computes what is missing and leaves no
+# temporary file behind.
 # Usage: killed_rank_prep.sh MPIEXEC "MPIEXEC_FLAGS" KHZ SCENE SCRATCH_DIRECTORY
 set -u
 mpiexec=$1 flags=$2 khz=$3 scene=$4 scratch=$5
@@ -31,6 +32,7 @@ done
 kill -KILL "$rank1"
 wait "$launcher" && fail "the job succeeded with a killed rank"
 grep -q "rank 1" "$scratch/job.log" || fail "the job's error does not name rank 1"
+grep -q "khz: stopped by the MPI launcher" "$scratch/job.log" || fail "rank 0 did not say why it ended"
 ls "$cache"/pointshell-*.khzshell >/dev/null 2>&1 && fail "a pointshell file from the killed rank"
 
 "$khz" prep "$scene" --cache "$cache" >"$scratch/again.log" 2>&1 || fail "khz prep afterwards"

@@ -9,6 +9,10 @@
 #ifdef KHZ_TOOL_WITH_MPI
 #include <khz/mpi/environment.hpp>
 #include <khz/mpi/mpi_work_group.hpp>
+
+#include <unistd.h>
+
+#include <csignal>
 #endif
 
 namespace khz::tool {
@@ -22,6 +26,19 @@ int launched_processes() {
   }
   return 1;
 }
+
+#ifdef KHZ_TOOL_WITH_MPI
+/// The launcher ends the job's other processes with SIGTERM when one dies (killed, out of
+/// memory): the first process then says why before it goes, so the job's output does not end
+/// with the launcher's note alone.
+void on_launcher_terminate(int) {
+  static const char message[] =
+      "khz: stopped by the MPI launcher: another process of the job ended (see the launcher's "
+      "message); the product cache keeps only complete products\n";
+  [[maybe_unused]] const auto written = ::write(STDERR_FILENO, message, sizeof message - 1);
+  ::_exit(128 + SIGTERM);
+}
+#endif
 
 }  // namespace
 
@@ -42,6 +59,7 @@ JobProcesses::JobProcesses([[maybe_unused]] std::string_view command) {
   if (processes == 1) return;
 #ifdef KHZ_TOOL_WITH_MPI
   m_mpi = std::make_unique<Mpi>();
+  if (m_mpi->group.rank() == 0) std::signal(SIGTERM, on_launcher_terminate);
 #else
   throw reduced::Error(
       "khz " + std::string(command) + " was started as " + std::to_string(processes) +
