@@ -83,7 +83,20 @@ std::vector<SharedFile> compute_shared_products(const SceneDescription& scene, P
                                                 const PrepareOptions& options,
                                                 reduced::WorkGroup& group,
                                                 std::vector<PrepareWarning>& warnings) {
-  const std::vector<Task> tasks = missing_products(scene, cache, options);
+  // Listing reads every mesh (content keys): a mesh one process cannot read must stop all of
+  // them here, before the collectives below.
+  std::vector<Task> tasks;
+  reduced::GroupStatus listed;
+  std::exception_ptr listing_failure;
+  try {
+    tasks = missing_products(scene, cache, options);
+  } catch (const std::exception& error) {
+    listed.state = reduced::GroupStatus::State::failed;
+    listed.message = error.what();
+    listing_failure = std::current_exception();
+  }
+  reduced::stop_unless_running(group.checkpoint(listed), group.rank(), group.size(),
+                               "preparing the scene", listing_failure);
   if (!same_list_everywhere(group, tasks)) {
     throw reduced::Error(
         "preparing the scene over " + group_text(group) +

@@ -157,6 +157,37 @@ TEST(MpiPrepareScene, AFailureOnOneRankEndsEveryRankAndLeavesNoPartialFile) {
   }));
 }
 
+TEST(MpiPrepareScene, AMeshOnlyOneRankCannotReadFailsEveryRank) {
+  mpi::MpiWorkGroup group;
+  const std::filesystem::path directory = shared_directory(group, "unreadable");
+  Json scene = test_scenes::reduced_pair_scene();
+  const std::filesystem::path mesh = directory / "rank0-wall.off";  // rank 1 has none
+  if (group.rank() == 0) {
+    std::filesystem::create_directories(directory);
+    std::filesystem::copy_file(test::test_file("scenes/cube.off"), mesh);
+  }
+  scene["objects"][1]["mesh"] = (directory / ("rank" + std::to_string(group.rank()) + "-wall.off"))
+                                    .string();  // rank 1's is missing
+  SceneReadOptions read_options;
+  read_options.base_directory = test::test_file("scenes");
+  read_options.check_files = false;
+  const SceneDescription description = parse_scene(scene.dump(), "scene.json", read_options);
+  ProductCache cache(directory / "cache");
+  PrepareOptions options;
+  options.group = &group;
+  try {
+    prepare_scene(description, cache, options);
+    ADD_FAILURE() << "rank " << group.rank() << ": no error";
+  } catch (const reduced::Error& error) {
+    const std::string message = error.what();
+    if (group.rank() == 0) {
+      EXPECT_NE(message.find("preparing the scene failed on rank 1 of 2"), std::string::npos)
+          << message;
+    }
+    EXPECT_NE(message.find("rank1-wall.off"), std::string::npos) << message;
+  }
+}
+
 TEST(MpiPrepareScene, ACancelOnOneRankCancelsEveryRank) {
   mpi::MpiWorkGroup group;
   const std::filesystem::path directory = shared_directory(group, "cancel");
