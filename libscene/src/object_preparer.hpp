@@ -30,6 +30,9 @@ namespace khz::scene::detail {
 /// A file extension without its leading dot, as ProductCache takes it.
 inline std::string bare(std::string_view extension) { return std::string(extension.substr(1)); }
 
+/// The volume mesh is stored as Gmsh text beside its reduced model, under the model's key.
+inline constexpr std::string_view volume_mesh_extension = ".msh";
+
 /// Prepares one object. Intermediate products (the surface mesh, the rest field, the
 /// pointshell) are obtained on first use and kept for the later steps, so each is read or
 /// computed at most once, and only if some step needs it.
@@ -68,11 +71,12 @@ class ObjectPreparer {
   /// the model for reduced_model, one file otherwise.
   std::vector<CacheFile> files(Product product) {
     if (product == Product::reduced_model) {
-      return {{PrepareStep::volume_mesh,
-               m_cache.file(std::string(step_name(PrepareStep::volume_mesh)), key(product), "msh")},
-              {PrepareStep::reduced_model,
-               m_cache.file(std::string(step_name(PrepareStep::reduced_model)), key(product),
-                            bare(reduced::reduced_model_file_extension))}};
+      return {
+          {PrepareStep::volume_mesh, m_cache.file(std::string(step_name(PrepareStep::volume_mesh)),
+                                                  key(product), bare(volume_mesh_extension))},
+          {PrepareStep::reduced_model,
+           m_cache.file(std::string(step_name(PrepareStep::reduced_model)), key(product),
+                        bare(reduced::reduced_model_file_extension))}};
     }
     const auto [step, extension] = step_and_extension(product);
     return {{step, m_cache.file(std::string(step_name(step)), key(product), bare(extension))}};
@@ -142,11 +146,11 @@ class ObjectPreparer {
     return found->second;
   }
 
-  /// Whether the cache holds the step's product (it will be read, not computed).
-  bool cached(PrepareStep step, Product product, std::string_view extension) {
-    m_step = step;
-    return std::filesystem::exists(
-        m_cache.file(std::string(step_name(step)), key(product), bare(extension)));
+  /// Whether the cache holds `product` (it will be read, not computed); makes its step the
+  /// step under way.
+  bool cached(Product product) {
+    m_step = step_and_extension(product).first;
+    return in_cache(product);
   }
 
   /// ProductCache::fetch() of the step's product under `product`'s key, recorded. `compute`
@@ -229,8 +233,7 @@ class ObjectPreparer {
       const bool repulsion = m_object.pointshell.method == PointshellMethod::repulsion;
       // The field first when the pointshell will be computed from it, so that its time is not
       // counted as the pointshell's.
-      if (repulsion && !cached(PrepareStep::pointshell, Product::pointshell,
-                               contact::pointshell_file_extension)) {
+      if (repulsion && !cached(Product::pointshell)) {
         field();
       }
       m_pointshell.emplace(fetch<contact::Pointshell>(
@@ -251,7 +254,7 @@ class ObjectPreparer {
     // The volume mesh is the model's other half (the model file keeps only its fingerprint):
     // stored under the model's key, since the same inputs determine it.
     const reduced::VolumeMesh volume = fetch<reduced::VolumeMesh>(
-        PrepareStep::volume_mesh, Product::reduced_model, ".msh",
+        PrepareStep::volume_mesh, Product::reduced_model, volume_mesh_extension,
         [this](const std::filesystem::path& file) {
           return detail::read_volume_mesh_file(
               file, m_cache.file(std::string(step_name(PrepareStep::reduced_model)),
@@ -289,7 +292,7 @@ class ObjectPreparer {
       });
       return;
     }
-    if (!cached(PrepareStep::point_tree, Product::point_tree, contact::point_tree_file_extension)) {
+    if (!cached(Product::point_tree)) {
       pointshell();
     }
     const reduced::MeshEmbedding& embedding = *prepared.embedding;

@@ -20,6 +20,15 @@ using test::ThreadWorkGroup;
 
 using Bar = test::DerivativeBar;
 
+// Several blocks per rank, not aligned with the ranks' shares.
+constexpr int block_size = 5;
+
+ModalDerivatives alone(const Bar& bar) {
+  ModalDerivativesOptions options;
+  options.block_size = block_size;
+  return compute_modal_derivatives(bar.model, bar.modes, options);
+}
+
 struct Outcome {
   std::optional<ModalDerivatives> derivatives;
   std::string error;
@@ -32,7 +41,7 @@ std::vector<Outcome> run_shared(const Bar& bar, int ranks,
   std::vector<Outcome> outcomes(static_cast<std::size_t>(ranks));
   group.run([&](int rank, WorkGroup& member) {
     ModalDerivativesOptions options;
-    options.block_size = 5;  // several blocks per rank, not aligned with the shares
+    options.block_size = block_size;
     options.group = &member;
     adjust(rank, options);
     Outcome& outcome = outcomes[static_cast<std::size_t>(rank)];
@@ -49,16 +58,15 @@ std::vector<Outcome> run_shared(const Bar& bar, int ranks,
 
 TEST(SharedModalDerivatives, AnchoredEqualOneProcessToRoundOffOnEveryRank) {
   const Bar bar(true);
-  ModalDerivativesOptions alone_options;
-  alone_options.block_size = 5;
-  const ModalDerivatives alone = compute_modal_derivatives(bar.model, bar.modes, alone_options);
-  ASSERT_EQ(alone.vectors.cols(), 21);
+  const ModalDerivatives reference = alone(bar);
+  ASSERT_EQ(reference.vectors.cols(), 21);
   for (int ranks : {2, 3}) {
     const std::vector<Outcome> outcomes = run_shared(bar, ranks, [](int, auto&) {});
     for (const Outcome& outcome : outcomes) {
       ASSERT_TRUE(outcome.derivatives) << outcome.error << outcome.cancelled;
-      EXPECT_EQ(outcome.derivatives->pairs, alone.pairs);
-      EXPECT_LT(test::largest_column_difference(outcome.derivatives->vectors, alone.vectors), 1e-13)
+      EXPECT_EQ(outcome.derivatives->pairs, reference.pairs);
+      EXPECT_LT(test::largest_column_difference(outcome.derivatives->vectors, reference.vectors),
+                1e-13)
           << ranks;
     }
   }
@@ -66,16 +74,15 @@ TEST(SharedModalDerivatives, AnchoredEqualOneProcessToRoundOffOnEveryRank) {
 
 TEST(SharedModalDerivatives, FreeEqualOneProcessWithinTheSolverTolerance) {
   const Bar bar(false);
-  ModalDerivativesOptions alone_options;
-  alone_options.block_size = 5;
-  const ModalDerivatives alone = compute_modal_derivatives(bar.model, bar.modes, alone_options);
-  ASSERT_EQ(alone.vectors.cols(), 36);
+  const ModalDerivatives reference = alone(bar);
+  ASSERT_EQ(reference.vectors.cols(), 36);
   // Blocks formed from each rank's share: other lockstep groups, each column solved to the
   // relative residual 1e-10 either way.
   const std::vector<Outcome> outcomes = run_shared(bar, 3, [](int, auto&) {});
   for (const Outcome& outcome : outcomes) {
     ASSERT_TRUE(outcome.derivatives) << outcome.error << outcome.cancelled;
-    EXPECT_LT(test::largest_column_difference(outcome.derivatives->vectors, alone.vectors), 1e-6);
+    EXPECT_LT(test::largest_column_difference(outcome.derivatives->vectors, reference.vectors),
+              1e-6);
     EXPECT_GT(outcome.derivatives->max_minres_iterations, 0);
     EXPECT_EQ(outcome.derivatives->max_minres_iterations,
               outcomes[0].derivatives->max_minres_iterations);  // the group's largest
