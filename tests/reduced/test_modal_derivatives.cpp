@@ -230,8 +230,8 @@ class FreeDerivatives : public ::testing::Test {
 
 // The bordered system [[K − λᵢM, MΨᵢ], [ΨᵢᵀM, 0]] [Φ; μ] = [b; 0] is nonsingular (the kernel
 // of K − λᵢM is Ψᵢ, which the border removes), its solution has Ψᵢᵀ M Φ = 0 and μ = 0 since
-// b ⊥ Ψᵢ. Dense LU. Measured with the default MINRES tolerance (1e-10, 15 iterations): worst
-// relative error 7.1e-9, |Ψᵢᵀ M Φᵢⱼ| / ‖Φᵢⱼ‖_M ≤ 4.5e-17, ‖Φ01 − Φ10‖ / ‖Φ10‖ = 0.061.
+// b ⊥ Ψᵢ. Dense LU. Measured with the default MINRES tolerance (1e-10, 8 iterations): worst
+// relative error 5.3e-11, |Ψᵢᵀ M Φᵢⱼ| / ‖Φᵢⱼ‖_M ≤ 1.4e-17, ‖Φ01 − Φ10‖ / ‖Φ10‖ = 0.061.
 // The off-diagonal Φᵢⱼ are partly rigid rotations (measured up to 53 % of ‖Φ02‖_M; Φᵢᵢ: 1e-11),
 // and must be: for r = ω × (X − c) multiply eq. 2.60 by rᵀ. K r = 0 and rᵀMΨᵢ = 0 leave
 // −λᵢ rᵀMΦᵢⱼ = −rᵀ(H : Ψⱼ)Ψᵢ = −Ψᵢᵀ(H : r)Ψⱼ, and H : r = ΩK − KΩ (K of a rigidly rotated rest

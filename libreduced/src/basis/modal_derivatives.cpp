@@ -1,13 +1,13 @@
 // Modal derivatives (thesis §2.8.3 eq. 2.47 for anchored objects, §2.8.7 eq. 2.60 for free ones).
-#include "block_minres.hpp"
 #include "detail/shared_stage.hpp"
 #include "modal_problem.hpp"
+#include "unconstrained_derivative_solver.hpp"
 
 #include <khz/reduced/basis/modal_derivatives.hpp>
 #include <khz/reduced/errors.hpp>
 
 #include <algorithm>
-#include <cmath>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -74,84 +74,31 @@ void solve_anchored(const detail::ModalProblem& problem, SymmetricFactorization&
   result.vectors.middleCols(first, last - first) = problem.dofs().expand_rows(stiffness.solve(rhs));
 }
 
-// Unconstrained: (K − λᵢM) Φᵢⱼ = (MΨᵢΨᵢᵀ − I)(H : Ψⱼ)Ψᵢ (eq. 2.60). K − λᵢM is singular along
-// Ψᵢ; the right-hand side lies in its range, and the regularized operator K − λᵢM + ΨᵢΨᵢᵀ
-// (nonsingular, symmetric, indefinite) has the same solution, which MINRES finds. Modes whose
-// eigenvalue equals λᵢ to 1e-6 (symmetric shapes) make the derivative ambiguous along them, so
-// the whole cluster is treated like Ψᵢ: projected out of the right-hand side, added to the
-// regularizer, and removed from the solution.
-/// Per mode i of an unconstrained object: its cluster Ψ_C (modes with λ equal to λᵢ within
-/// 1e-6) and MΨ_C.
-struct ModeClusters {
-  std::vector<Eigen::MatrixXd> psi;
-  std::vector<Eigen::MatrixXd> mass_psi;
-};
-
-ModeClusters mode_clusters(const detail::ModalProblem& problem, const LinearModes& modes) {
-  const Eigen::Index k = modes.modes.cols();
-  ModeClusters clusters;
-  for (Eigen::Index i = 0; i < k; ++i) {
-    std::vector<Eigen::Index> cluster;
-    for (Eigen::Index m = 0; m < k; ++m) {
-      if (std::abs(modes.eigenvalues(m) - modes.eigenvalues(i)) <= 1e-6 * modes.eigenvalues(i)) {
-        cluster.push_back(m);
-      }
-    }
-    clusters.psi.push_back(modes.modes(Eigen::all, cluster));
-    clusters.mass_psi.push_back(problem.mass() * clusters.psi.back());
-  }
-  return clusters;
-}
-
 // Derivatives [first, last) as one block of right-hand sides in lockstep; check_cancel is
 // called every MINRES iteration.
-template <typename CheckCancel>
-void solve_unconstrained(const detail::ModalProblem& problem, const LinearModes& modes,
-                         const ModeClusters& clusters, SymmetricFactorization& preconditioner,
+void solve_unconstrained(const LinearModes& modes,
+                         const detail::UnconstrainedDerivativeSolver& solver,
                          const std::vector<std::array<int, 2>>& pairs,
                          const Eigen::MatrixXd& products, Eigen::Index first, Eigen::Index last,
-                         const ModalDerivativesOptions& options, const CheckCancel& check_cancel,
-                         ModalDerivatives& result) {
-  const SparseMatrix& mass = problem.mass();
-  const std::vector<Eigen::MatrixXd>& psi = clusters.psi;
-  const std::vector<Eigen::MatrixXd>& mass_psi = clusters.mass_psi;
-  // Blocks mix pairs of different i: each column has its own operator K − λᵢM + Ψ_CΨ_Cᵀ, but
-  // K·X, M·X and the preconditioner solve still run on the whole block at once.
+                         const ModalDerivativesOptions& options,
+                         const std::function<void()>& check_cancel, ModalDerivatives& result) {
+  // Blocks mix pairs of different i: each column has its own λᵢ, but the operator, the
+  // projections and the preconditioner solve still run on the whole block at once.
   const Eigen::Index columns = last - first;
-  const auto mode_of = [&](Eigen::Index c) {
-    return static_cast<std::size_t>(pairs[static_cast<std::size_t>(first + c)][0]);
-  };
   Eigen::VectorXd lambda(columns);
-  Eigen::MatrixXd rhs = -products.middleCols(first, columns);
   for (Eigen::Index c = 0; c < columns; ++c) {
-    const std::size_t i = mode_of(c);
-    lambda(c) = modes.eigenvalues(static_cast<Eigen::Index>(i));
-    rhs.col(c) -= mass_psi[i] * (psi[i].transpose() * rhs.col(c));  // (MΨΨᵀ − I) g
+    lambda(c) = modes.eigenvalues(pairs[static_cast<std::size_t>(first + c)][0]);
   }
-  const auto apply = [&](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) {
-    y.noalias() = problem.stiffness() * x;
-    y.noalias() -= (mass * x) * lambda.asDiagonal();
-    for (Eigen::Index c = 0; c < columns; ++c) {
-      y.col(c).noalias() += psi[mode_of(c)] * (psi[mode_of(c)].transpose() * x.col(c));
-    }
-  };
-  const auto precondition = [&](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) {
-    y = preconditioner.solve(x);
-  };
-  Eigen::MatrixXd phi;
-  const detail::MinresReport report = detail::block_minres(
-      apply, precondition, rhs, options.tolerance, options.max_iterations, check_cancel, phi);
+  detail::MinresReport report;
+  result.vectors.middleCols(first, columns) =
+      solver.solve(-products.middleCols(first, columns), lambda, options.tolerance,
+                   options.max_iterations, check_cancel, report);
   if (!report.converged) {
     throw SolverError("MINRES did not converge for derivatives " + std::to_string(first) + "–" +
                       std::to_string(last - 1) + " in " + std::to_string(options.max_iterations) +
                       " iterations (relative residual " +
                       std::to_string(report.worst_relative_residual) + ")");
   }
-  for (Eigen::Index c = 0; c < columns; ++c) {
-    const std::size_t i = mode_of(c);
-    phi.col(c) -= psi[i] * (mass_psi[i].transpose() * phi.col(c));  // Ψᵢᵀ M Φᵢⱼ = 0
-  }
-  result.vectors.middleCols(first, columns) = phi;
   result.max_minres_iterations = std::max(result.max_minres_iterations, report.iterations);
 }
 
@@ -175,12 +122,12 @@ ModalDerivatives compute_modal_derivatives(const FemModel& model, const LinearMo
   std::unique_ptr<SymmetricFactorization> factor;
   stage.agree([&] { factor = problem.factorize_shifted(options.factorize); });
   result.vectors = Eigen::MatrixXd::Zero(products.rows(), count);  // zeros: summed when shared
-  std::optional<ModeClusters> clusters;
-  if (problem.unconstrained()) clusters.emplace(mode_clusters(problem, modes));
+  std::optional<detail::UnconstrainedDerivativeSolver> unconstrained;
+  if (problem.unconstrained()) unconstrained.emplace(problem, modes, *factor);
   const auto solve_block = [&](std::int64_t first, std::int64_t last) {
-    if (clusters) {
+    if (unconstrained) {
       solve_unconstrained(
-          problem, modes, *clusters, *factor, result.pairs, products, first, last, options,
+          modes, *unconstrained, result.pairs, products, first, last, options,
           [&] { stage.poll(); }, result);
     } else {
       solve_anchored(problem, *factor, products, first, last, result);

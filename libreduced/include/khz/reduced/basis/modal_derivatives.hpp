@@ -22,7 +22,7 @@ struct ModalDerivativesOptions {
   /// block): larger blocks are faster and need 3n × block_size doubles more memory.
   int block_size = 64;
   /// Unconstrained objects only: MINRES stops when ‖b − A x‖ ≤ tolerance·‖b‖ for each
-  /// right-hand side (in the norm of the preconditioner).
+  /// right-hand side of the deflated system (in the norm of the preconditioner).
   double tolerance = 1e-10;
   /// Unconstrained objects only: MINRES iterations per block before SolverError.
   int max_iterations = 2000;
@@ -64,9 +64,10 @@ struct ModalDerivatives {
 ///
 /// Anchored: K Φᵢⱼ = −(H : Ψⱼ) Ψᵢ (eq. 2.47) with one Cholesky factorization of K on the free
 /// dofs and the right-hand sides solved in blocks. Unconstrained: (K − λᵢM) Φᵢⱼ =
-/// (MΨᵢΨᵢᵀ − I)(H : Ψⱼ)Ψᵢ (eq. 2.60), solved by MINRES on the regularized operator
-/// K − λᵢM + ΨᵢΨᵢᵀ preconditioned with a Cholesky factorization of K − σM (σ < 0), blocks of
-/// right-hand sides in lockstep; each Φᵢⱼ is then made M-orthogonal to Ψᵢ.
+/// (MΨᵢΨᵢᵀ − I)(H : Ψⱼ)Ψᵢ (eq. 2.60) with Ψᵢᵀ M Φᵢⱼ = 0: exactly along the rigid and computed
+/// modes (K − λᵢM is indefinite or singular along them), and by MINRES in their M-orthogonal
+/// complement, preconditioned with a Cholesky factorization of K − σM (σ < 0) and deflated by
+/// Ritz vectors of the next modes (32 more solves), blocks of right-hand sides in lockstep.
 ///
 /// @throws Error if `modes` does not fit the model or options are invalid; SolverError if a
 ///         factorization fails or MINRES does not converge; Cancelled.
