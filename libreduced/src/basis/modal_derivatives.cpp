@@ -97,7 +97,11 @@ void solve_unconstrained(const LinearModes& modes,
     throw SolverError("MINRES did not converge for derivatives " + std::to_string(first) + "–" +
                       std::to_string(last - 1) + " in " + std::to_string(options.max_iterations) +
                       " iterations (relative residual " +
-                      std::to_string(report.worst_relative_residual) + ")");
+                      std::to_string(report.worst_relative_residual) +
+                      "); if the object is symmetric, its last modes may have a twin of equal "
+                      "eigenvalue past the " +
+                      std::to_string(modes.eigenvalues.size()) +
+                      " computed: compute more or fewer modes, so that the group is whole");
   }
   result.max_minres_iterations = std::max(result.max_minres_iterations, report.iterations);
 }

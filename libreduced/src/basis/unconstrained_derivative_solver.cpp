@@ -17,6 +17,14 @@ constexpr Eigen::Index kRitzBlock = 8;
 constexpr int kKrylovSteps = 4;
 constexpr Eigen::Index kRitzVectors = 16;
 
+// 1 / (μ − λ), or 0 where μ equals λ to 1e-6: the derivative is ambiguous along an eigenvector
+// of eigenvalue λ (Ψᵢ, its twins on symmetric shapes, or a converged Ritz vector of a twin just
+// past the computed modes), and eq. 2.60 takes none of it.
+double inverse_gap(double mu, double lambda) {
+  const double gap = mu - lambda;
+  return std::abs(gap) <= 1e-6 * lambda ? 0.0 : 1.0 / gap;
+}
+
 }  // namespace
 
 UnconstrainedDerivativeSolver::UnconstrainedDerivativeSolver(const ModalProblem& problem,
@@ -53,7 +61,7 @@ Eigen::MatrixXd UnconstrainedDerivativeSolver::coarse_solve(const Eigen::MatrixX
                                                             const Eigen::VectorXd& lambda) const {
   Eigen::MatrixXd h = m_w.transpose() * y;
   for (Eigen::Index c = 0; c < h.cols(); ++c) {
-    h.col(c).array() /= m_ritz_values.array() - lambda(c);
+    for (Eigen::Index p = 0; p < h.rows(); ++p) h(p, c) *= inverse_gap(m_ritz_values(p), lambda(c));
   }
   return h;
 }
@@ -105,12 +113,11 @@ Eigen::MatrixXd UnconstrainedDerivativeSolver::solve(const Eigen::MatrixXd& b,
                                                      double tolerance, int max_iterations,
                                                      const std::function<void()>& check,
                                                      MinresReport& report) const {
-  // Along V: Vᵀ M Φ, zero along the modes of eigenvalue λ_c.
+  // Along V: Vᵀ M Φ.
   Eigen::MatrixXd along_known = m_v.transpose() * b;
   for (Eigen::Index c = 0; c < b.cols(); ++c) {
     for (Eigen::Index m = 0; m < along_known.rows(); ++m) {
-      const double gap = m_eigenvalues(m) - lambda(c);
-      along_known(m, c) = std::abs(gap) <= 1e-6 * lambda(c) ? 0.0 : along_known(m, c) / gap;
+      along_known(m, c) *= inverse_gap(m_eigenvalues(m), lambda(c));
     }
   }
   Eigen::MatrixXd complement_b = b;

@@ -70,7 +70,9 @@ struct ModalDerivatives {
 /// Ritz vectors of the next modes (32 more solves), blocks of right-hand sides in lockstep.
 ///
 /// @throws Error if `modes` does not fit the model or options are invalid; SolverError if a
-///         factorization fails or MINRES does not converge; Cancelled.
+///         factorization fails or MINRES does not converge (for an unconstrained object, e.g.
+///         when its last modes have an equal-eigenvalue twin past the k computed: eq. 2.60 has
+///         no solution along it); Cancelled.
 KHZ_REDUCED_API ModalDerivatives compute_modal_derivatives(
     const FemModel& model, const LinearModes& modes, const ModalDerivativesOptions& options = {});
 
