@@ -51,16 +51,12 @@ GroupStatus MpiWorkGroup::checkpoint(const GroupStatus& mine) {
   detail::check(MPI_Allgather(brought.data(), 2, MPI_INT64_T, everyone.data(), 2, MPI_INT64_T,
                               m_communicator),
                 "MPI_Allgather");
-  GroupStatus group;
-  for (int rank = 0; rank < m_size; ++rank) {
-    const auto state =
-        static_cast<GroupStatus::State>(everyone[2 * static_cast<std::size_t>(rank)]);
-    group.done += everyone[2 * static_cast<std::size_t>(rank) + 1];
-    if (state > group.state) {
-      group.state = state;
-      group.rank = rank;
-    }
+  std::vector<GroupStatus> statuses(static_cast<std::size_t>(m_size));  // without messages
+  for (std::size_t rank = 0; rank < statuses.size(); ++rank) {
+    statuses[rank].state = static_cast<GroupStatus::State>(everyone[2 * rank]);
+    statuses[rank].done = everyone[2 * rank + 1];
   }
+  GroupStatus group = combine_statuses(statuses);
   if (group.state == GroupStatus::State::running) return group;
   // The message of the rank the state comes from, to every rank.
   std::string message = group.rank == m_rank ? mine.message : std::string();

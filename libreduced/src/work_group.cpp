@@ -7,6 +7,20 @@ namespace khz::reduced {
 
 WorkGroup::~WorkGroup() = default;
 
+GroupStatus combine_statuses(std::span<const GroupStatus> statuses) {
+  GroupStatus group;
+  for (std::size_t rank = 0; rank < statuses.size(); ++rank) {
+    const GroupStatus& status = statuses[rank];
+    group.done += status.done;
+    if (status.state > group.state) {
+      group.state = status.state;
+      group.message = status.message;
+      group.rank = static_cast<int>(rank);
+    }
+  }
+  return group;
+}
+
 void stop_unless_running(const GroupStatus& group, int rank, int size, std::string_view what,
                          const std::exception_ptr& own_failure) {
   const std::string where =

@@ -29,16 +29,7 @@ class ThreadWorkGroup::Member final : public reduced::WorkGroup {
   reduced::GroupStatus checkpoint(const reduced::GroupStatus& status) override {
     m_group.m_statuses[static_cast<std::size_t>(m_rank)] = status;
     arrive(std::string::npos);
-    reduced::GroupStatus all;
-    for (const auto& s : m_group.m_statuses) all.done += s.done;
-    for (int r = 0; r < m_group.m_size; ++r) {
-      const auto& s = m_group.m_statuses[static_cast<std::size_t>(r)];
-      if (s.state > all.state) {
-        all.state = s.state;
-        all.message = s.message;
-        all.rank = r;
-      }
-    }
+    reduced::GroupStatus all = reduced::combine_statuses(m_group.m_statuses);
     m_group.m_barrier.arrive_and_wait();
     return all;
   }

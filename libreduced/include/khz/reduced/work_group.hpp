@@ -55,6 +55,12 @@ class KHZ_REDUCED_API WorkGroup {
   virtual GroupStatus checkpoint(const GroupStatus& mine) = 0;
 };
 
+/// The group's status from every process's (index = rank), by WorkGroup::checkpoint()'s rule:
+/// the most severe state (failed, then cancelled, then running), with the message and rank of
+/// the lowest-ranked process in it, and the sum of `done`. For implementations of checkpoint()
+/// that have every status in one place.
+KHZ_REDUCED_API GroupStatus combine_statuses(std::span<const GroupStatus> statuses);
+
 /// Ends a shared computation called `what` as the checkpoint result `group` says, alike on
 /// every process: returns while it is running. When a process failed, the process it comes
 /// from (`rank` == group.rank) rethrows `own_failure` if it has one; every other throws Error
