@@ -121,13 +121,16 @@ ModalDerivatives compute_modal_derivatives(const FemModel& model, const LinearMo
   const auto count = static_cast<Eigen::Index>(result.pairs.size());
   detail::SharedStage stage(options.group, options.progress, "modal derivatives", count);
   // K (anchored) or K − σM with σ < 0 (unconstrained, MINRES's preconditioner), factorized by
-  // every process (or by all together, for a collective factorization); a failure on one stops
-  // all.
+  // every process (or by all together, for a collective factorization), and for an
+  // unconstrained object the solver's Ritz vectors, which take solves with it; a failure on one
+  // process stops all.
   std::unique_ptr<SymmetricFactorization> factor;
-  stage.agree([&] { factor = problem.factorize_shifted(options.factorize); });
-  result.vectors = Eigen::MatrixXd::Zero(products.rows(), count);  // zeros: summed when shared
   std::optional<detail::UnconstrainedDerivativeSolver> unconstrained;
-  if (problem.unconstrained()) unconstrained.emplace(problem, modes, *factor);
+  stage.agree([&] {
+    factor = problem.factorize_shifted(options.factorize);
+    if (problem.unconstrained()) unconstrained.emplace(problem, modes, *factor);
+  });
+  result.vectors = Eigen::MatrixXd::Zero(products.rows(), count);  // zeros: summed when shared
   const auto solve_block = [&](std::int64_t first, std::int64_t last) {
     if (unconstrained) {
       solve_unconstrained(

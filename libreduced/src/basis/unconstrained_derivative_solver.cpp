@@ -30,16 +30,14 @@ double inverse_gap(double mu, double lambda) {
 UnconstrainedDerivativeSolver::UnconstrainedDerivativeSolver(const ModalProblem& problem,
                                                              const LinearModes& modes,
                                                              SymmetricFactorization& preconditioner)
-    : m_problem(problem),
-      m_preconditioner(preconditioner),
-      m_shifted_stiffness(problem.stiffness(), problem.mass()) {
+    : m_preconditioner(preconditioner), m_shifted_stiffness(problem.stiffness(), problem.mass()) {
   const Eigen::Index rigid = modes.rigid_modes.cols();
   m_v.resize(modes.modes.rows(), rigid + modes.modes.cols());
   m_v << modes.rigid_modes, modes.modes;
   m_mass_v = problem.mass() * m_v;
   m_eigenvalues.resize(m_v.cols());
   m_eigenvalues << Eigen::VectorXd::Zero(rigid), modes.eigenvalues;
-  compute_ritz_vectors();
+  compute_ritz_vectors(problem);
 }
 
 void UnconstrainedDerivativeSolver::project_displacements(Eigen::MatrixXd& x) const {
@@ -73,8 +71,8 @@ void UnconstrainedDerivativeSolver::subtract_coarse(const Eigen::MatrixXd& h,
   y.noalias() += m_mass_w * (h * lambda.asDiagonal());
 }
 
-void UnconstrainedDerivativeSolver::compute_ritz_vectors() {
-  const SparseMatrix& mass = m_problem.mass();
+void UnconstrainedDerivativeSolver::compute_ritz_vectors(const ModalProblem& problem) {
+  const SparseMatrix& mass = problem.mass();
   const Eigen::Index n = m_v.rows();
   Eigen::MatrixXd basis(n, kRitzBlock * kKrylovSteps);  // M-orthonormal, in the complement
   std::mt19937_64 generator(20070601);
@@ -96,7 +94,7 @@ void UnconstrainedDerivativeSolver::compute_ritz_vectors() {
       block = m_preconditioner.solve(mass * basis.middleCols(size - kRitzBlock, kRitzBlock));
   }
   const auto space = basis.leftCols(size);
-  const Eigen::MatrixXd stiffness_space = m_problem.stiffness() * space;
+  const Eigen::MatrixXd stiffness_space = problem.stiffness() * space;
   Eigen::MatrixXd reduced = space.transpose() * stiffness_space;
   reduced = (0.5 * (reduced + reduced.transpose())).eval();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz(reduced);

@@ -35,10 +35,10 @@ namespace khz::reduced::detail {
 /// Solves eq. 2.60 for blocks of right-hand sides, each with its own λᵢ.
 class UnconstrainedDerivativeSolver {
  public:
-  /// Keeps references to all three. Computes the Ritz vectors W with a few solves of
-  /// `preconditioner` (K − σM) on a block Krylov space started from a fixed pseudo-random block,
-  /// so every process of a group computes the same W (and calls a collective factorization the
-  /// same number of times).
+  /// Keeps a reference to `preconditioner`; reads `problem` and `modes` only here. Computes the
+  /// Ritz vectors W with a few solves of `preconditioner` (K − σM) on a block Krylov space started
+  /// from a fixed pseudo-random block, so every process of a group computes the same W (and calls a
+  /// collective factorization the same number of times).
   /// @throws SolverError if a solve fails.
   UnconstrainedDerivativeSolver(const ModalProblem& problem, const LinearModes& modes,
                                 SymmetricFactorization& preconditioner);
@@ -51,9 +51,6 @@ class UnconstrainedDerivativeSolver {
   Eigen::MatrixXd solve(const Eigen::MatrixXd& b, const Eigen::VectorXd& lambda, double tolerance,
                         int max_iterations, const std::function<void()>& check,
                         MinresReport& report) const;
-
-  /// Columns of W, the Ritz vectors deflated besides the known modes.
-  Eigen::Index ritz_vectors() const noexcept { return m_w.cols(); }
 
  private:
   /// x ← Q x = x − V (MV)ᵀ x: the complement's part of displacements.
@@ -69,9 +66,8 @@ class UnconstrainedDerivativeSolver {
   void subtract_coarse(const Eigen::MatrixXd& h, const Eigen::VectorXd& lambda,
                        Eigen::MatrixXd& y) const;
   /// The Ritz vectors of K w = θ M w in the complement of V, lowest first.
-  void compute_ritz_vectors();
+  void compute_ritz_vectors(const ModalProblem& problem);
 
-  const ModalProblem& m_problem;
   SymmetricFactorization& m_preconditioner;
   ShiftedStiffness m_shifted_stiffness;
   Eigen::MatrixXd m_v;            ///< V = [rigid modes, Ψ]
