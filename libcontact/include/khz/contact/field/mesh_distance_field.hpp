@@ -70,7 +70,7 @@ struct DistanceFieldOptions {
 /// pseudonormals near the surface and are otherwise arbitrary where inside is undefined; use
 /// polygon_soup_field() for such input.
 /// @throws MeshError for an invalid mesh (validate()), one without triangles, or more than
-///         2³⁰ − 1 triangles; Error for invalid options (cells, box_expansion, geometry,
+///         2²⁷ − 1 triangles; Error for invalid options (cells, box_expansion, geometry,
 ///         exact_band < √3, memory_budget_bytes ≤ 0) or a grid above the memory budget;
 ///         Cancelled.
 KHZ_CONTACT_API DistanceGrid signed_distance_field(const TriangleMesh& closed_mesh,
