@@ -98,8 +98,8 @@ Pointshell repulsion_pointshell(const DistanceGrid& field, double level,
 
     const std::uint64_t level_seed =
         detail::split_mix(options.seed + 0x9e3779b97f4a7c15ULL * static_cast<std::uint64_t>(i));
-    detail::seed_level(field, level_set, {level, epsilon, settings.projection_max_step}, level_seed,
-                       begin, end, pointshell.points, normals);
+    detail::seed_level(field, level_set, {level, epsilon, settings.projection_max_step, spacing},
+                       level_seed, begin, end, pointshell.points, normals);
 
     const std::string stage_name = "particle repulsion level " + std::to_string(i);
     reduced::StageProgress stage(options.progress, stage_name, options.max_iterations);

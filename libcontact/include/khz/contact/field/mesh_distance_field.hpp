@@ -44,8 +44,8 @@ struct DistanceFieldOptions {
 
 /// The signed distance field (negative inside) of a closed, consistently oriented manifold mesh.
 /// In parallel (OpenMP) from 96² nodes per plane up (below, barriers would cost more than
-/// they save); the result does not depend on the thread count. Cost: about 0.6 µs of
-/// CPU per node (bunny00.off, 75k triangles: 5.4 s for 256³ cells on 2 cores; see
+/// they save); the result does not depend on the thread count. Cost: about 0.5 µs of
+/// CPU per node (bunny00.off, 75k triangles: 4.5 s for 256³ cells on 2 cores; see
 /// bench_distance_field).
 ///
 /// How (thesis §3.11 leaves it open):
