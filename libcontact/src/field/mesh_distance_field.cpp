@@ -48,7 +48,9 @@
 // A sweep offers a node only the neighbours that changed since an earlier sweep last offered
 // them (see Sweep): a neighbour's unchanged triangle was already weighed, and the node's own
 // triangle has only become closer since, so weighing it again cannot change anything. This
-// keeps the result that of offering all nine and roughly halves the distances computed.
+// keeps the result that of offering all nine, with a fifth fewer distances computed (bunny00.off
+// at 256³: 177 M instead of 215 M; most nodes change in the first two sweeps, so later sweeps
+// still re-offer most edge and corner neighbours).
 //
 // While the field is computed, each node's 4 bytes (the storage of its final float value) hold
 // a slot word: the index of its closest triangle so far, the last sweep that changed it and two
