@@ -199,12 +199,16 @@ TEST(RepulsionPointshell, IsReproducibleForASeedOnAnyThreadCount) {
   EXPECT_NE(d.points, a.points.topRows(16));
 }
 
-TEST(RepulsionPointshell, ReportsNonConvergenceWithoutThrowing) {
+/// The sphere's pointshell with small_options() stopped after `iterations` per level.
+Pointshell stopped_after(int iterations, RepulsionReport& report) {
   RepulsionOptions options = small_options();
-  options.max_iterations = 3;
+  options.max_iterations = iterations;
+  return repulsion_pointshell(sphere_field(), 0.0, sphere_surface(), options, &report);
+}
+
+TEST(RepulsionPointshell, ReportsNonConvergenceWithoutThrowing) {
   RepulsionReport report;
-  const Pointshell shell =
-      repulsion_pointshell(sphere_field(), 0.0, sphere_surface(), options, &report);
+  const Pointshell shell = stopped_after(3, report);
   validate(shell);
   EXPECT_FALSE(report.converged());
   for (const RepulsionLevelReport& level : report.levels) {
@@ -222,11 +226,8 @@ TEST(RepulsionPointshell, ReportsNonConvergenceWithoutThrowing) {
 }
 
 TEST(RepulsionPointshell, StartsEachLevelFromAPoissonDiskSample) {
-  RepulsionOptions options = small_options();
-  options.max_iterations = 1;
   RepulsionReport report;
-  const Pointshell shell =
-      repulsion_pointshell(sphere_field(), 0.0, sphere_surface(), options, &report);
+  const Pointshell shell = stopped_after(1, report);
   // Plain area-weighted random points of the same level set, for contrast: they clump.
   const Pointshell random = random_pointshell(sphere_surface(), shell.size(), 7);
   for (int i = 0; i < shell.num_levels(); ++i) {
