@@ -282,6 +282,8 @@ TEST(RepulsionPointshell, RejectsInvalidInput) {
   rejects([](RepulsionOptions& o) { o.first_level_points = 0; });
   rejects([](RepulsionOptions& o) { o.levels = 0; });
   rejects([](RepulsionOptions& o) { o.first_level_points = 1 << 20, o.levels = 8; });
+  // 2³⁰ points fit int32 indices, but not with four seeding candidates each.
+  rejects([](RepulsionOptions& o) { o.first_level_points = 1 << 30, o.levels = 1; });
   rejects([](RepulsionOptions& o) { o.levels = 40; });
   rejects([](RepulsionOptions& o) { o.max_iterations = 0; });
   rejects([](RepulsionOptions& o) { o.tolerance = 0.0; });

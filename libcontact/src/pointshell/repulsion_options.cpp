@@ -13,11 +13,16 @@ void RepulsionOptions::validate() const {
     throw Error(where + "first_level_points " + std::to_string(first_level_points) + " is below 1");
   }
   if (levels < 1) throw Error(where + "levels " + std::to_string(levels) + " is below 1");
-  // n₀(4ᴸ − 1)/3 points in all, within int32 indices.
+  // n₀(4ᴸ − 1)/3 points in all, and while the finest level is seeded its four candidates per
+  // point beside the coarser levels' points, within int32 indices.
   constexpr double most_points = std::numeric_limits<std::int32_t>::max();
-  if (static_cast<double>(first_level_points) * (std::pow(4.0, levels) - 1.0) / 3.0 > most_points) {
+  const double n0 = static_cast<double>(first_level_points);
+  const double coarser = n0 * (std::pow(4.0, levels - 1) - 1.0) / 3.0;
+  const double finest = n0 * std::pow(4.0, levels - 1);
+  if (coarser + 4.0 * finest > most_points) {
     throw Error(where + std::to_string(levels) + " levels from " +
-                std::to_string(first_level_points) + " points exceed 2^31 - 1 points");
+                std::to_string(first_level_points) +
+                " points need more than 2^31 - 1 points and seeding candidates");
   }
   if (max_iterations < 1) {
     throw Error(where + "max_iterations " + std::to_string(max_iterations) + " is below 1");

@@ -21,7 +21,8 @@ namespace khz::contact {
 /// thesis tuned R and η by hand per scene (§3.8.1).
 struct KHZ_CONTACT_API RepulsionOptions {
   /// n₀: points of level 0, ≥ 1. Level i has n₀·4ⁱ points (§3.8.1), so L levels hold
-  /// n₀(4ᴸ − 1)/3 in all, at most 2³¹ − 1.
+  /// n₀(4ᴸ − 1)/3 in all; those of the coarser levels plus four candidates per point of the
+  /// finest (its seeding) at most 2³¹ − 1.
   Eigen::Index first_level_points = 64;
   /// L, ≥ 1.
   int levels = 4;
