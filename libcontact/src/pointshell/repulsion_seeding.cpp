@@ -67,15 +67,17 @@ void sort_spatially(const DistanceGrid& field, Eigen::Index begin, Eigen::Index 
 
 }  // namespace
 
-Eigen::Index seed_level(const DistanceGrid& field, const TriangleMesh& level_set,
-                        const SeedingTarget& target, std::uint64_t seed, Eigen::Index begin,
-                        Eigen::Index end, PointMatrix& points,
-                        std::vector<Eigen::Vector3d>& normals) {
+void seed_level(const DistanceGrid& field, const TriangleMesh& level_set,
+                const SeedingTarget& target, std::uint64_t seed, Eigen::Index begin,
+                Eigen::Index end, PointMatrix& points, std::vector<Eigen::Vector3d>& normals) {
   const Eigen::Index rows = end - begin;
   const Eigen::Index count = candidates_per_row * rows;
   const Pointshell samples = random_pointshell(level_set, count, split_mix(seed));
-  PointMatrix projected(count, 3);
-  std::vector<Eigen::Vector3d> projected_normals(static_cast<std::size_t>(count));
+  // The coarser levels' points, then the candidates (projected where that converged): one grid
+  // over both for the dart throwing below.
+  PointMatrix all(begin + count, 3);
+  all.topRows(begin) = points.topRows(begin);
+  std::vector<Eigen::Vector3d> candidate_normals(static_cast<std::size_t>(count));
   std::vector<char> on_level(static_cast<std::size_t>(count), 0);
 #pragma omp parallel for num_threads(reduced::worker_threads()) \
     schedule(dynamic, 256) if (count > parallel_threshold)
@@ -85,16 +87,13 @@ Eigen::Index seed_level(const DistanceGrid& field, const TriangleMesh& level_set
         field, target.level, sample, target.projection_tolerance, target.projection_max_step);
     const auto i = static_cast<std::size_t>(k);
     on_level[i] = p.converged ? 1 : 0;
-    projected.row(k) = p.converged ? p.point.transpose() : sample.transpose();
-    projected_normals[i] =
+    all.row(begin + k) = p.converged ? p.point.transpose() : sample.transpose();
+    candidate_normals[i] =
         p.converged ? p.normal : Eigen::Vector3d(-samples.normals.row(k).transpose());
   }
 
-  // Dart throwing among the projected candidates, around the coarser levels' points: one grid
-  // over both (frozen rows first), cells in scanline order, points by index within a cell.
-  PointMatrix all(begin + count, 3);
-  all.topRows(begin) = points.topRows(begin);
-  all.bottomRows(count) = projected;
+  // Dart throwing among the projected candidates, around the coarser levels' points: cells in
+  // scanline order, points by index within a cell.
   const RepulsionHashGrid grid(all, all.rows(), first_radius * target.spacing);
   // By slot, so that a neighbourhood's flags are contiguous.
   std::vector<char> kept(static_cast<std::size_t>(all.rows()), 0);
@@ -109,8 +108,8 @@ Eigen::Index seed_level(const DistanceGrid& field, const TriangleMesh& level_set
   Eigen::Index next = begin;
   const auto take = [&](Eigen::Index k) {
     taken[static_cast<std::size_t>(k)] = 1;
-    points.row(next) = projected.row(k);
-    normals[static_cast<std::size_t>(next)] = projected_normals[static_cast<std::size_t>(k)];
+    points.row(next) = all.row(begin + k);
+    normals[static_cast<std::size_t>(next)] = candidate_normals[static_cast<std::size_t>(k)];
     ++next;
   };
   for (double r = first_radius; r >= last_radius && next < end; r *= radius_shrink) {
@@ -149,13 +148,7 @@ Eigen::Index seed_level(const DistanceGrid& field, const TriangleMesh& level_set
       if (taken[i] == 0 && on_level[i] == wanted) take(k);
     }
   }
-  Eigen::Index off_level = 0;
-  for (Eigen::Index k = 0; k < count; ++k) {
-    const auto i = static_cast<std::size_t>(k);
-    off_level += taken[i] != 0 && on_level[i] == 0;
-  }
   sort_spatially(field, begin, end, points, normals);
-  return off_level;
 }
 
 }  // namespace khz::contact::detail
