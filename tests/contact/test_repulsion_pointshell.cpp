@@ -242,6 +242,24 @@ TEST(RepulsionPointshell, StartsEachLevelFromAPoissonDiskSample) {
   }
 }
 
+TEST(RepulsionPointshell, StartsFinerLevelsFromTheCoarserLevelsMidpoints) {
+  // The finest level (2048 points) starts from the midpoints of neighbouring coarser points,
+  // nearly a relaxed lattice already. Measured over seeds 1–3: 41–57 iterations to converge,
+  // against 146–173 from a Poisson-disk sample of random points; the spread is no worse (99th
+  // over 1st nearest-neighbour percentile 1.23–1.26, against 1.23–1.27).
+  for (const std::uint64_t seed : {1, 2, 3}) {
+    RepulsionOptions options = small_options();
+    options.seed = seed;
+    RepulsionReport report;
+    repulsion_pointshell(sphere_field(), 0.0, sphere_surface(), options, &report);
+    const RepulsionLevelReport& finest = report.levels.back();
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    EXPECT_TRUE(finest.converged);
+    EXPECT_LT(finest.iterations, 100);
+    EXPECT_LT(finest.nearest_percentile_99 / finest.nearest_percentile_1, 1.3);
+  }
+}
+
 TEST(RepulsionPointshell, ReportsProgressAndCancels) {
   std::vector<std::string> stages;
   std::vector<std::pair<std::int64_t, std::int64_t>> reports;

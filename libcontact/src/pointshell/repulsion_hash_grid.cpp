@@ -102,6 +102,36 @@ RepulsionHashGrid::Neighbourhood RepulsionHashGrid::neighbourhood(std::size_t ce
   return around;
 }
 
+bool RepulsionHashGrid::has_point_within(const Eigen::Vector3d& position,
+                                         double radius) const noexcept {
+  const Coordinates centre = cell_of(position);
+  const double radius_squared = radius * radius;
+  const auto any_in = [&](const Coordinates& c) {
+    const std::int32_t cell = find(c);
+    if (cell < 0) return false;
+    const Range slots = m_cells[static_cast<std::size_t>(cell)].slots;
+    for (std::int32_t slot = slots.begin; slot < slots.end; ++slot) {
+      if ((m_slot_positions[static_cast<std::size_t>(slot)] - position).squaredNorm() <
+          radius_squared) {
+        return true;
+      }
+    }
+    return false;
+  };
+  // The position's own cell first: where a point within the radius most likely lies.
+  if (any_in(centre)) return true;
+  for (std::int64_t k = -1; k <= 1; ++k) {
+    for (std::int64_t j = -1; j <= 1; ++j) {
+      for (std::int64_t i = -1; i <= 1; ++i) {
+        if ((i != 0 || j != 0 || k != 0) && any_in({centre[0] + i, centre[1] + j, centre[2] + k})) {
+          return true;
+        }
+      }
+    }
+  }
+  return false;
+}
+
 std::pair<Eigen::Index, double> RepulsionHashGrid::nearest_other(
     Eigen::Index point, const Eigen::Vector3d& position) const noexcept {
   const Coordinates centre = cell_of(position);

@@ -55,6 +55,9 @@ class RepulsionHashGrid {
     return m_slot_positions[static_cast<std::size_t>(slot)];
   }
 
+  /// Whether some point lies closer than `radius` to `position`; radius ≤ cell_size().
+  bool has_point_within(const Eigen::Vector3d& position, double radius) const noexcept;
+
   /// The point other than `point` nearest to `position` (the position of `point`), and its
   /// distance; (−1, +∞) if the grid holds no other point. Searches shells of cells outwards
   /// until no unvisited cell can hold a nearer point, or scans all points if that takes more

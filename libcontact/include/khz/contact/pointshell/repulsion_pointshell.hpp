@@ -34,11 +34,11 @@ struct KHZ_CONTACT_API RepulsionOptions {
   int max_iterations = 1000;
   /// Convergence, in (0, 1): a level stops once its points moved on average less than
   /// `tolerance` spacings in one iteration (spacing √(A/Nᵢ), Nᵢ the points of levels 0…i).
-  /// Measured on dino.off, 262k points in 5 levels (bench_pointshell): 10⁻³ takes about 145
-  /// iterations per level, for a nearest-neighbour spread (99th over 1st percentile) of 1.27 on
-  /// the finest level; 2·10⁻³ about 80, 1.30, in about 70% of the time; 4·10⁻³ about 40, 1.35,
-  /// in under 60%. (Before levels started from Poisson-disk samples, 10⁻³ took about 200
-  /// iterations for 1.33.)
+  /// Measured on dino.off, 262k points in 5 levels (bench_pointshell): 10⁻³ takes 115, 126,
+  /// 96, 55 and 30 iterations on levels 0–4, for a nearest-neighbour spread (99th over 1st
+  /// percentile) of 1.24 on the finest level, in 3.4 s; 2·10⁻³ about half the iterations, 1.29,
+  /// 2.6 s; 4·10⁻³ a quarter, 1.35, 1.8 s. (Before finer levels started from the coarser
+  /// levels' midpoints, 10⁻³ took about 145 iterations per level for 1.27.)
   double tolerance = 1e-3;
   /// κ: the repulsion radius of level i is R = κ·√(A/Nᵢ) (the thesis halves R per level, which
   /// this approaches as Nᵢ₊₁/Nᵢ → 4). The default, 1.5, reaches the first ring of neighbours
@@ -113,12 +113,14 @@ struct RepulsionReport {
 /// level 0 of PolygonSoupField::field for a polygon soup or thin structure (its offset surface
 /// σ; an unsigned field at level σ works too, but keeps inner walls).
 ///
-/// Level by level, n₀·4ⁱ new particles start as a Poisson-disk sample: dart throwing among
-/// four times as many area-weighted random points of the marching-tetrahedra triangulation S
-/// of T (isosurface()), projected onto T, keeps points at least 0.6–0.75 spacings from each
-/// other and from the coarser levels' points (about 30% fewer iterations than a plain random
-/// start, which clumps). Then, with the
-/// points of coarser levels frozen, they repel each other and the frozen points with the
+/// Level by level, n₀·4ⁱ new particles start as a Poisson-disk sample (dart throwing, at
+/// least 0.6–0.8 spacings from each other and from the coarser levels' points): first among the
+/// midpoints of neighbouring coarser points — a relaxed triangular lattice's edge midpoints and
+/// vertices form the lattice of half its spacing, so the finest level of dino.off converges in
+/// 30 iterations instead of 146 — then, for the rows left, among 4·n₀·4ⁱ area-weighted random
+/// points of the marching-tetrahedra triangulation S of T (isosurface()), all projected onto T.
+/// Then, with the points of coarser levels frozen, they repel each other and the frozen points
+/// with the
 /// thesis's finite-radius kernel, of force g(d/R) = 2(d/R)³ − 3(d/R)² + 1 for d < R and 0
 /// beyond. Each iteration computes every force first and then moves every particle (Jacobi):
 /// by its η times the force's part tangent to T, then back onto T by Newton's method along the
@@ -132,7 +134,7 @@ struct RepulsionReport {
 /// Non-convergence is reported, not thrown (RepulsionReport: per-level `converged`, points off
 /// the level set); the caller decides. In parallel (OpenMP); the result does not depend on the
 /// thread count. Cost: about 0.2 µs per point and iteration on two cores; 256k points in five
-/// levels on dino.off's 256³ field take 7.2 s on two cores, 12.7 s on one (bench_pointshell).
+/// levels on dino.off's 256³ field take 3.4 s on two cores, 5.7 s on one (bench_pointshell).
 ///
 /// @param field The distance field (m), signed or unsigned.
 /// @param level The level (m) whose set T the points lie on, finite.
