@@ -22,14 +22,19 @@ class RepulsionNeighbourLists {
 
   /// The neighbours of row first + m.
   std::span<const std::int32_t> of(Eigen::Index m) const noexcept {
-    const auto begin = static_cast<std::size_t>(m_offsets[static_cast<std::size_t>(m)]);
-    const auto end = static_cast<std::size_t>(m_offsets[static_cast<std::size_t>(m) + 1]);
-    return {m_neighbours.data() + begin, end - begin};
+    const auto i = static_cast<std::size_t>(m);
+    return {m_buffers[static_cast<std::size_t>(m_buffer_of[i])].data() + m_starts[i],
+            static_cast<std::size_t>(m_counts[i])};
   }
 
  private:
-  std::vector<std::int64_t> m_offsets;  ///< Per particle, then the end.
-  std::vector<std::int32_t> m_neighbours;
+  // One pass finds each particle's list and appends it to its thread's buffer: laying the
+  // lists out in row order took a counting pass that searched every pair twice (a build of
+  // 197k particles on dino.off: 68 ms against 116). Kept between builds for their capacity.
+  std::vector<std::vector<std::int32_t>> m_buffers;  ///< Per thread.
+  std::vector<std::int32_t> m_buffer_of;             ///< Per particle: its list's buffer …
+  std::vector<std::size_t> m_starts;                 ///< … where the list starts in it …
+  std::vector<std::int32_t> m_counts;                ///< … and its length.
 };
 
 }  // namespace khz::contact::detail
