@@ -16,9 +16,9 @@ struct NearestNeighbourStatistics {
   double percentile_99 = 0.0;  ///< 99% of the points have a nearer neighbour.
 };
 
-/// The statistics of rows [0, count) of `points`, found on a hash grid of cells `cell_size` (best
-/// near the typical spacing), in parallel (OpenMP) and reproducibly. All zero if count < 2.
+/// The statistics of rows [0, count) of `points`, whose mean spacing is about `spacing` (m),
+/// found on a hash grid in parallel (OpenMP) and reproducibly. All zero if count < 2.
 NearestNeighbourStatistics nearest_neighbour_statistics(const PointMatrix& points,
-                                                        Eigen::Index count, double cell_size);
+                                                        Eigen::Index count, double spacing);
 
 }  // namespace khz::contact::detail
