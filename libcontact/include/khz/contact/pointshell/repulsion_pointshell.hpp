@@ -36,9 +36,9 @@ struct KHZ_CONTACT_API RepulsionOptions {
   /// `tolerance` spacings in one iteration (spacing √(A/Nᵢ), Nᵢ the points of levels 0…i).
   /// Measured on dino.off, 262k points in 5 levels (bench_pointshell): 10⁻³ takes 115, 126,
   /// 96, 55 and 30 iterations on levels 0–4, for a nearest-neighbour spread (99th over 1st
-  /// percentile) of 1.24 on the finest level, in 3.4 s; 2·10⁻³ about half the iterations, 1.29,
-  /// 2.6 s; 4·10⁻³ a quarter, 1.35, 1.8 s. (Before finer levels started from the coarser
-  /// levels' midpoints, 10⁻³ took about 145 iterations per level for 1.27.)
+  /// percentile) of 1.24 on the finest level; 2·10⁻³ about half as many, 1.29, in about 65% of
+  /// the time; 4·10⁻³ a quarter, 1.35, in about 60%. (Before finer levels started from the
+  /// coarser levels' midpoints, 10⁻³ took about 145 iterations per level for 1.27.)
   double tolerance = 1e-3;
   /// κ: the repulsion radius of level i is R = κ·√(A/Nᵢ) (the thesis halves R per level, which
   /// this approaches as Nᵢ₊₁/Nᵢ → 4). The default, 1.5, reaches the first ring of neighbours
@@ -134,7 +134,7 @@ struct RepulsionReport {
 /// Non-convergence is reported, not thrown (RepulsionReport: per-level `converged`, points off
 /// the level set); the caller decides. In parallel (OpenMP); the result does not depend on the
 /// thread count. Cost: about 0.2 µs per point and iteration on two cores; 256k points in five
-/// levels on dino.off's 256³ field take 3.4 s on two cores, 5.7 s on one (bench_pointshell).
+/// levels on dino.off's 256³ field take 2.8–3.4 s on two cores, 5.2 s on one (bench_pointshell).
 ///
 /// @param field The distance field (m), signed or unsigned.
 /// @param level The level (m) whose set T the points lie on, finite.
