@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -102,6 +103,11 @@ void write_file_bytes(const std::filesystem::path& file, std::string_view bytes)
 }
 
 void replace_file_bytes(const std::filesystem::path& file, std::string_view bytes) {
+  replace_file_bytes(file, std::span<const std::string_view>(&bytes, 1));
+}
+
+void replace_file_bytes(const std::filesystem::path& file,
+                        std::span<const std::string_view> pieces) {
   std::filesystem::path temporary;
   const int fd = create_temporary(file, temporary);
   const auto fail = [&](const std::string& what, int error) {
@@ -110,7 +116,8 @@ void replace_file_bytes(const std::filesystem::path& file, std::string_view byte
     throw IoError(file.string() + ": " + what + ": " +
                   (error != 0 ? std::strerror(error) : "unknown error"));
   };
-  if (!write_all(fd, bytes)) {
+  if (!std::all_of(pieces.begin(), pieces.end(),
+                   [&](std::string_view piece) { return write_all(fd, piece); })) {
     const int error = errno;
     ::close(fd);
     fail("write failed", error);

@@ -2,6 +2,7 @@
 // Whole-file reads and writes with IoError messages that name the file.
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -17,5 +18,8 @@ void write_file_bytes(const std::filesystem::path& file, std::string_view bytes)
 /// permissions 0666 minus the umask, an existing one is replaced by a new inode.
 /// @throws IoError naming `file` and the system's reason; the temporary file is removed.
 void replace_file_bytes(const std::filesystem::path& file, std::string_view bytes);
+/// The same with the content given in pieces, written one after the other (no copy joins them).
+void replace_file_bytes(const std::filesystem::path& file,
+                        std::span<const std::string_view> pieces);
 
 }  // namespace khz::reduced::detail

@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <memory>
+#include <new>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -104,6 +106,30 @@ std::string printable(std::string_view bytes) {
   return text;
 }
 
+/// What frames a container's bytes (header with the length still zero, then the payload): the
+/// header with the file's length filled in, and the trailing checksum of that header and the
+/// payload — so that the payload, often hundreds of MB, need not be copied to be written.
+struct Framing {
+  std::string header;
+  std::string trailer;
+};
+
+Framing framing(const std::string& bytes) {
+  Framing frame{bytes.substr(0, container_header_bytes), {}};
+  const std::uint64_t length =
+      to_little_endian(static_cast<std::uint64_t>(bytes.size() + container_checksum_bytes));
+  std::memcpy(frame.header.data() + length_offset, &length, sizeof(length));
+  const std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> state(XXH3_createState(),
+                                                                       &XXH3_freeState);
+  if (!state) throw std::bad_alloc();
+  XXH3_64bits_reset(state.get());
+  XXH3_64bits_update(state.get(), frame.header.data(), frame.header.size());
+  XXH3_64bits_update(state.get(), bytes.data() + frame.header.size(),
+                     bytes.size() - frame.header.size());
+  append(frame.trailer, static_cast<std::uint64_t>(XXH3_64bits_digest(state.get())));
+  return frame;
+}
+
 }  // namespace
 
 // ---- ContainerWriter ------------------------------------------------------------------------
@@ -145,18 +171,20 @@ void ContainerWriter::write_matrix(const Eigen::Ref<const Eigen::MatrixXd>& matr
 }
 
 std::string ContainerWriter::bytes() const {
+  const Framing frame = framing(m_bytes);
   std::string out;
-  out.reserve(m_bytes.size() + container_checksum_bytes);
-  out = m_bytes;
-  const std::uint64_t length =
-      to_little_endian(static_cast<std::uint64_t>(m_bytes.size() + container_checksum_bytes));
-  std::memcpy(out.data() + length_offset, &length, sizeof(length));
-  append(out, checksum(out.data(), out.size()));
+  out.reserve(m_bytes.size() + frame.trailer.size());
+  out += frame.header;
+  out.append(m_bytes, frame.header.size());
+  out += frame.trailer;
   return out;
 }
 
 void ContainerWriter::write_file(const std::filesystem::path& file) const {
-  detail::replace_file_bytes(file, bytes());
+  const Framing frame = framing(m_bytes);
+  const std::string_view pieces[] = {
+      frame.header, std::string_view(m_bytes).substr(frame.header.size()), frame.trailer};
+  detail::replace_file_bytes(file, pieces);
 }
 
 // ---- ContainerReader ------------------------------------------------------------------------
