@@ -96,16 +96,17 @@ Pointshell repulsion_pointshell(const DistanceGrid& field, double level,
     // Room to come back from a full move off a sharp feature, and from S to the level set.
     settings.projection_max_step = std::max(2.0 * grid_spacing, settings.max_move);
 
+    // The level's stage counts its seeding and its statistics as one unit each: on the finest
+    // level of a 262k-point shell they take 0.8 and 0.15 s (bench_pointshell).
+    const std::string stage_name = "particle repulsion level " + std::to_string(i);
+    reduced::StageProgress stage(options.progress, stage_name, options.max_iterations + 2);
     const std::uint64_t level_seed =
         detail::split_mix(options.seed + 0x9e3779b97f4a7c15ULL * static_cast<std::uint64_t>(i));
     detail::seed_level(field, level_set, {level, epsilon, settings.projection_max_step, spacing},
                        level_seed, begin, end, pointshell.points, normals);
-
-    const std::string stage_name = "particle repulsion level " + std::to_string(i);
-    reduced::StageProgress stage(options.progress, stage_name, options.max_iterations);
+    stage.advance();
     const detail::RelaxationResult relaxed =
         detail::relax_level(field, pointshell.points, begin, end, normals, settings, stage);
-    stage.finish();
 
     RepulsionLevelReport& figures = summary.levels.emplace_back();
     figures.points = end - begin;
@@ -127,6 +128,7 @@ Pointshell repulsion_pointshell(const DistanceGrid& field, double level,
         nearest.min > 0.0 ? nearest.max / nearest.min : std::numeric_limits<double>::infinity();
     figures.nearest_percentile_1 = nearest.percentile_1;
     figures.nearest_percentile_99 = nearest.percentile_99;
+    stage.finish();
   }
 
   pointshell.normals = inward_normals(normal_source, pointshell.points, options.progress);

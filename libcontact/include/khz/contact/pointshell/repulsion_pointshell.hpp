@@ -52,9 +52,9 @@ struct KHZ_CONTACT_API RepulsionOptions {
   /// picks 10⁻⁴ h.
   double projection_tolerance = 0.0;
   /// Reports the stages "pointshell level set" (1 unit), "particle repulsion level i" for each
-  /// level (units: iterations, total max_iterations; finished early on convergence) and
-  /// "pointshell normals" (units: points). Returning false cancels (Cancelled) within one
-  /// iteration.
+  /// level (units: its seeding, its iterations and its nearest-neighbour statistics, total
+  /// max_iterations + 2; finished early on convergence) and "pointshell normals" (units:
+  /// points). Returning false cancels (Cancelled) within one iteration, or after the seeding.
   ProgressCallback progress;
 
   /// @throws Error naming the first invalid option.
