@@ -131,20 +131,14 @@ struct ContactSums {
   [[gnu::always_inline]] void add(const Eigen::Vector3d& r, double d, const Eigen::Vector3d& normal,
                                   const Eigen::Vector3d& gradient, double c) noexcept {
     const auto slot = static_cast<std::size_t>(m_pending);
-    const Eigen::Vector3d pushed = c * normal;
-    const Eigen::Vector3d turned = c * r.cross(normal);
-    double* left = m_left[slot].data();
-    double* right = m_right[slot].data();
-    for (int a = 0; a < 3; ++a) {
-      left[a] = pushed[a];
-      left[3 + a] = turned[a];
-      right[a] = gradient[a];
-    }
-    left[6] = left[7] = 0.0;
-    const Eigen::Vector3d lever_turn = gradient.cross(r);
-    for (int a = 0; a < 3; ++a) right[3 + a] = lever_turn[a];
-    force += d * pushed;
-    torque += d * turned;
+    Eigen::Matrix<double, padded_rows, 1>& left = m_left[slot];
+    left.head<3>() = c * normal;
+    left.segment<3>(3) = c * r.cross(normal);
+    left.tail<2>().setZero();
+    m_right[slot].head<3>() = gradient;
+    m_right[slot].tail<3>() = gradient.cross(r);
+    force += d * left.head<3>();
+    torque += d * left.segment<3>(3);
     if (++m_pending == chunk) flush();
   }
 
