@@ -174,9 +174,9 @@ class KHZ_CONTACT_API DeformedDistanceField {
 ///
 /// Cost (bench_deformed_distance_field: dino.off, 128³ field, r = 15, 40 proxies, k = 5, points
 /// within 2h of the deformed surface; one core of this project's Xeon, load from other jobs):
-/// distance() about 131 ns, distance_and_gradient() 156 ns, culling_distance() 115 ns where
-/// every point is culled and 130 ns at threshold 0, culling_distances() 16 points at a time 86
-/// and 100 ns per point, update() 0.9 µs. The neighbour search takes about half of a query.
+/// distance() about 140 ns, distance_and_gradient() 169 ns, culling_distance() 131 ns where
+/// every point is culled and 137 ns at threshold 0, culling_distances() 16 points at a time 80
+/// and 91 ns per point, update() 1.0 µs. The neighbour search takes about half of a query.
 ///
 /// All members but the constructor and assignment are noexcept and allocate nothing; the const
 /// queries are thread-safe. The field must outlive the state.
