@@ -726,22 +726,34 @@ const Legs& legs() {
 }
 
 /// culling_distances() against culling_distance() at `x` (one of them made NaN) with
-/// thresholds of both signs.
+/// thresholds of both signs; with proxies, the same values and nearest_proxy() wherever the
+/// value is at most the threshold.
 void expect_batch_equals_single(const DeformedFieldState& state, std::vector<Eigen::Vector3d> x,
                                 double spacing) {
   x[13].y() = std::numeric_limits<double>::quiet_NaN();
-  std::vector<double> thresholds, batched(x.size());
+  std::vector<double> thresholds, batched(x.size()), with_proxies(x.size());
+  std::vector<Eigen::Index> proxies(x.size(), -7);
   for (std::size_t i = 0; i < x.size(); ++i) {
     thresholds.push_back((static_cast<double>(i % 5) - 2.0) * spacing);
   }
   state.culling_distances(x, thresholds, batched);
+  state.culling_distances(x, thresholds, with_proxies, proxies);
+  int exact = 0;
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (i == 13) {
       EXPECT_TRUE(std::isnan(batched[i]));
-    } else {
-      EXPECT_EQ(batched[i], state.culling_distance(x[i], thresholds[i])) << "point " << i;
+      EXPECT_TRUE(std::isnan(with_proxies[i]));
+      EXPECT_EQ(proxies[i], -1);
+      continue;
+    }
+    EXPECT_EQ(batched[i], state.culling_distance(x[i], thresholds[i])) << "point " << i;
+    EXPECT_EQ(with_proxies[i], batched[i]) << "point " << i;
+    if (batched[i] <= thresholds[i]) {
+      EXPECT_EQ(proxies[i], state.nearest_proxy(x[i])) << "point " << i;
+      ++exact;
     }
   }
+  EXPECT_GE(exact, 4);  // the proxies were checked somewhere
 }
 
 TEST(DeformedDistanceField, BatchedCullingEqualsOneAtATimeBitForBit) {
@@ -873,6 +885,9 @@ TEST(DeformedDistanceField, AddsTheNearestProxysModesTransposedTimesTheForce) {
     const Eigen::VectorXd start = Eigen::VectorXd::LinSpaced(6, -1.0, 1.0);
     Eigen::VectorXd reduced = start;
     state.add_reduced_force(x, force, reduced);
+    Eigen::VectorXd at_proxy = start;
+    state.add_proxy_reduced_force(nearest, force, at_proxy);
+    EXPECT_EQ(at_proxy, reduced);
     const reduced::PointModes modes =
         s.embedding.modes(s.embedding.locate(s.field.rest_position(nearest)), s.basis);
     const Eigen::VectorXd expected = start + modes.displacement.transpose() * force;
@@ -882,6 +897,7 @@ TEST(DeformedDistanceField, AddsTheNearestProxysModesTransposedTimesTheForce) {
   Eigen::VectorXd reduced = Eigen::VectorXd::Zero(6);
   const Eigen::Vector3d nowhere(std::nan(""), 0.0, 0.0);
   state.add_reduced_force(nowhere, Eigen::Vector3d::Ones(), reduced);
+  state.add_proxy_reduced_force(-1, Eigen::Vector3d::Ones(), reduced);
   EXPECT_EQ(reduced, Eigen::VectorXd::Zero(6));
   EXPECT_EQ(state.nearest_proxy(nowhere), -1);
   EXPECT_TRUE(std::isnan(state.distance(nowhere)));

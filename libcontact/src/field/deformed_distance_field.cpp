@@ -114,13 +114,6 @@ struct StateView {
   const double* positions;
   const double* inverse;
   Eigen::Index count;
-
-  double squared_distance(Eigen::Index i, const Eigen::Vector3d& x) const noexcept {
-    const double dx = positions[i] - x.x();
-    const double dy = positions[count + i] - x.y();
-    const double dz = positions[2 * count + i] - x.z();
-    return dx * dx + dy * dy + dz * dz;
-  }
 };
 
 /// The squared distances from x to proxies [begin, begin + size) into `d2` (a loop the compiler
@@ -244,21 +237,6 @@ void find_nearest(const StateView& s, Eigen::Index begin, Eigen::Index end, int 
     out.squared[static_cast<std::size_t>(m)] = d2[b];
     out.index[static_cast<std::size_t>(m)] = begin + static_cast<Eigen::Index>(b);
   }
-}
-
-/// The index of the proxy of [begin, end) nearest to x (the lowest on ties).
-Eigen::Index find_nearest_one(const StateView& s, Eigen::Index begin, Eigen::Index end,
-                              const Eigen::Vector3d& x) noexcept {
-  Eigen::Index best = begin;
-  double best_d2 = s.squared_distance(begin, x);
-  for (Eigen::Index i = begin + 1; i < end; ++i) {
-    const double d2 = s.squared_distance(i, x);
-    if (d2 < best_d2) {
-      best_d2 = d2;
-      best = i;
-    }
-  }
-  return best;
 }
 
 /// Steps 1–3 of one domain's blend up to the rest-field lookups: the k nearest proxies, the
@@ -723,7 +701,22 @@ void DeformedFieldState::culling_distances(std::span<const Eigen::Vector3d> x,
                                            std::span<const double> thresholds,
                                            std::span<double> out) const noexcept {
   assert(thresholds.size() == x.size() && out.size() == x.size());
-  const std::size_t count = std::min({x.size(), thresholds.size(), out.size()});
+  cull(x.first(std::min({x.size(), thresholds.size(), out.size()})), thresholds, out, nullptr);
+}
+
+void DeformedFieldState::culling_distances(std::span<const Eigen::Vector3d> x,
+                                           std::span<const double> thresholds,
+                                           std::span<double> out,
+                                           std::span<Eigen::Index> nearest) const noexcept {
+  assert(thresholds.size() == x.size() && out.size() == x.size() && nearest.size() == x.size());
+  cull(x.first(std::min({x.size(), thresholds.size(), out.size(), nearest.size()})), thresholds,
+       out, nearest.data());
+}
+
+void DeformedFieldState::cull(std::span<const Eigen::Vector3d> x,
+                              std::span<const double> thresholds, std::span<double> out,
+                              Eigen::Index* nearest_out) const noexcept {
+  const std::size_t count = x.size();
   const DeformedDistanceField& field = *m_field;
   const StateView view{field.rest_positions().data(), m_positions.data(), m_inverse.data(),
                        m_count};
@@ -738,6 +731,7 @@ void DeformedFieldState::culling_distances(std::span<const Eigen::Vector3d> x,
       const bool finite = x[i].allFinite();
       out[i] = finite ? std::numeric_limits<double>::infinity()
                       : std::numeric_limits<double>::quiet_NaN();
+      if (nearest_out != nullptr) nearest_out[i] = -1;
       if (!finite) continue;
       points[static_cast<std::size_t>(used)] = x[i];
       slot[static_cast<std::size_t>(used++)] = i;
@@ -766,8 +760,11 @@ void DeformedFieldState::culling_distances(std::span<const Eigen::Vector3d> x,
       for (int l = 0; l < used; ++l) {
         const auto u = static_cast<std::size_t>(l);
         const std::size_t i = slot[u];
-        out[i] =
-            std::min(out[i], blend_above(stencils[u], grid, field.field_slope(d), thresholds[i]));
+        // As evaluate(): the first domain giving the least value, and its nearest proxy.
+        const double value = blend_above(stencils[u], grid, field.field_slope(d), thresholds[i]);
+        if (!(value < out[i])) continue;
+        out[i] = value;
+        if (nearest_out != nullptr) nearest_out[i] = stencils[u].neighbours.index[0];
       }
     }
   }
@@ -777,7 +774,11 @@ Eigen::Index DeformedFieldState::nearest_proxy(const Eigen::Vector3d& x) const n
   if (!x.allFinite()) return -1;
   const StateView view{m_field->rest_positions().data(), m_positions.data(), m_inverse.data(),
                        m_count};
-  if (m_field->num_domains() == 1) return find_nearest_one(view, 0, m_count, x);
+  if (m_field->num_domains() == 1) {
+    Neighbours nearest;
+    find_nearest(view, 0, m_count, 1, x, nearest);
+    return nearest.index[0];
+  }
   Eigen::Index nearest = -1;
   Eigen::Vector3d unused;
   evaluate<false>(*m_field, view, x, nearest, unused);
@@ -786,13 +787,17 @@ Eigen::Index DeformedFieldState::nearest_proxy(const Eigen::Vector3d& x) const n
 
 void DeformedFieldState::add_reduced_force(const Eigen::Vector3d& x, const Eigen::Vector3d& force,
                                            Eigen::Ref<Eigen::VectorXd> reduced) const noexcept {
-  assert(reduced.size() == dimension());
-  if (reduced.size() != dimension()) return;
-  const Eigen::Index i = nearest_proxy(x);
-  if (i < 0) return;
+  add_proxy_reduced_force(nearest_proxy(x), force, reduced);
+}
+
+void DeformedFieldState::add_proxy_reduced_force(
+    Eigen::Index proxy, const Eigen::Vector3d& force,
+    Eigen::Ref<Eigen::VectorXd> reduced) const noexcept {
+  assert(reduced.size() == dimension() && proxy >= -1 && proxy < m_count);
+  if (reduced.size() != dimension() || proxy < 0 || proxy >= m_count) return;
   // U_iᵀ f = Σ_a f_a · (row a of U_i).
   const Eigen::MatrixXd& modes = m_field->displacement_matrix();
-  for (int a = 0; a < 3; ++a) reduced += force[a] * modes.row(a * m_count + i).transpose();
+  for (int a = 0; a < 3; ++a) reduced += force[a] * modes.row(a * m_count + proxy).transpose();
 }
 
 Eigen::Vector3d DeformedFieldState::position(Eigen::Index i) const noexcept {

@@ -231,10 +231,17 @@ class KHZ_CONTACT_API DeformedFieldState {
   /// debug builds; otherwise the shortest is used).
   void culling_distances(std::span<const Eigen::Vector3d> x, std::span<const double> thresholds,
                          std::span<double> out) const noexcept;
+  /// The same, and nearest[i] = nearest_proxy(x[i]) wherever out[i] ≤ thresholds[i] (elsewhere
+  /// the nearest proxy of the domain giving the bound; −1 for a non-finite x[i]): the proxy the
+  /// contact query applies a point's reaction at (add_proxy_reduced_force()), found by the
+  /// neighbour search the value needed anyway. The four spans have the same size.
+  void culling_distances(std::span<const Eigen::Vector3d> x, std::span<const double> thresholds,
+                         std::span<double> out, std::span<Eigen::Index> nearest) const noexcept;
 
-  /// The proxy nearest to x (a global index) in the domain giving the minimum in distance(x);
-  /// with one domain, only the nearest-neighbour search runs, otherwise a full distance(x).
-  /// −1 for a non-finite x.
+  /// The proxy nearest to x (a global index) in the domain giving the minimum in distance(x),
+  /// as the neighbour search orders them (squared distances equal to within 2⁻⁴⁶ relative by
+  /// index); with one domain, only the search runs, otherwise a full distance(x). −1 for a
+  /// non-finite x.
   Eigen::Index nearest_proxy(const Eigen::Vector3d& x) const noexcept;
 
   /// Adds to `reduced` (r entries) the generalized force U_nᵀ f of a force f (N, body frame)
@@ -244,6 +251,11 @@ class KHZ_CONTACT_API DeformedFieldState {
   /// r entries (asserted in debug builds) or x is not finite.
   void add_reduced_force(const Eigen::Vector3d& x, const Eigen::Vector3d& force,
                          Eigen::Ref<Eigen::VectorXd> reduced) const noexcept;
+  /// add_reduced_force() at a proxy found already (culling_distances() with `nearest`): adds
+  /// U_nᵀ f for proxy n = `proxy`. Does nothing if `reduced` does not have r entries or `proxy`
+  /// is not in [0, field().num_proxies()) (both asserted in debug builds, except proxy −1).
+  void add_proxy_reduced_force(Eigen::Index proxy, const Eigen::Vector3d& force,
+                               Eigen::Ref<Eigen::VectorXd> reduced) const noexcept;
 
   /// p_i (m) at the current q, 0 ≤ i < field().num_proxies().
   Eigen::Vector3d position(Eigen::Index i) const noexcept;
@@ -251,6 +263,10 @@ class KHZ_CONTACT_API DeformedFieldState {
   Eigen::Matrix3d inverse_gradient(Eigen::Index i) const noexcept;
 
  private:
+  /// culling_distances(), with nearest proxies into `nearest` unless it is null.
+  void cull(std::span<const Eigen::Vector3d> x, std::span<const double> thresholds,
+            std::span<double> out, Eigen::Index* nearest) const noexcept;
+
   const DeformedDistanceField* m_field;
   Eigen::Index m_count;         // N
   Eigen::VectorXd m_positions;  // 3N: x, y, z blocks
@@ -264,5 +280,6 @@ class KHZ_CONTACT_API DeformedFieldState {
 static_assert(BoundedDeformableDistanceField<DeformedFieldState>);
 static_assert(CullingDistanceField<DeformedFieldState>);
 static_assert(BatchCullingDistanceField<DeformedFieldState>);
+static_assert(ProxyReactionDistanceField<DeformedFieldState>);
 
 }  // namespace khz::contact

@@ -69,6 +69,23 @@ concept DeformableDistanceField = DistanceField<Field> &&
   field.add_reduced_force(x, x, reduced);
 };
 
+/// A DeformableDistanceField and BatchCullingDistanceField whose batch culling also names the
+/// proxy each point's reaction applies at, so the contact query does not search for it again:
+/// - culling_distances(x, t, out, proxies): as culling_distances(x, t, out), and proxies[i] (an
+///   Eigen::Index) the one add_reduced_force(x[i], …) would use, wherever out[i] ≤ t[i];
+/// - add_proxy_reduced_force(proxy, f, reduced): add_reduced_force(x, f, reduced) for an x whose
+///   proxy that is. Neither may throw or allocate.
+template <typename Field>
+concept ProxyReactionDistanceField = DeformableDistanceField<Field> &&
+    BatchCullingDistanceField<Field> &&
+    requires(const Field& field, std::span<const Eigen::Vector3d> x, std::span<const double> t,
+             std::span<double> out, std::span<Eigen::Index> proxies, Eigen::Index proxy,
+             const Eigen::Vector3d& f, Eigen::VectorXd& reduced) {
+  { field.culling_distances(x, t, out, proxies) }
+  noexcept;
+  field.add_proxy_reduced_force(proxy, f, reduced);
+};
+
 /// A DeformableDistanceField that also tells how far its surface can have moved, so temporal
 /// coherence can cover it (§3.10.2):
 /// - coordinates(): its current reduced coordinates q (r entries);

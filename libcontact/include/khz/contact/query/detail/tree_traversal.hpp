@@ -308,6 +308,10 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
   constexpr bool batch_culling = BatchCullingDistanceField<Field> && !gradient_with_value;
   Eigen::Vector3d batch_lookup_points[batch];
   double batch_radii[batch], batch_distances[batch];
+  // A deformed field's culling also finds the proxy a point in contact takes its reaction at
+  // (it searched the neighbours for the value): no second search per point in contact.
+  constexpr bool proxy_reaction = batch_culling && ProxyReactionDistanceField<Field>;
+  [[maybe_unused]] Eigen::Index batch_proxies[batch];
   int batch_slot[batch];
   for (int level = 0;; ++level) {
     const Eigen::Index first_new_point = shell.level_begin(level);
@@ -341,7 +345,12 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
           batch_radii[batch_count++] = points.radius(n);
         }
       }
-      if constexpr (batch_culling) {
+      if constexpr (proxy_reaction) {
+        field.culling_distances(std::span(batch_lookup_points, batch_count),
+                                std::span<const double>(batch_radii, batch_count),
+                                std::span(batch_distances, batch_count),
+                                std::span(batch_proxies, batch_count));
+      } else if constexpr (batch_culling) {
         field.culling_distances(std::span(batch_lookup_points, batch_count),
                                 std::span<const double>(batch_radii, batch_count),
                                 std::span(batch_distances, batch_count));
@@ -415,7 +424,10 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
         if constexpr (Points::deformable) {
           points.add_reduced_force(s, rotation_p.transpose() * -f, ws.m_contact_reduced_force);
         }
-        if constexpr (deformable_field) {
+        if constexpr (proxy_reaction) {
+          field.add_proxy_reduced_force(batch_proxies[batch_slot[k - begin]],
+                                        rotation_f.transpose() * f, result.field_reduced_force);
+        } else if constexpr (deformable_field) {
           field.add_reduced_force(field_point, rotation_f.transpose() * f,
                                   result.field_reduced_force);
         }
