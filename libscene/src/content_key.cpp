@@ -149,10 +149,6 @@ Json key_json(const ObjectDescription& object, Product product) {
       key["geometry"] = geometry_json(object);
       key["model"] = model_json(object.model);
       break;
-    case Product::point_tree:
-      key["pointshell"] = key_json(object, Product::pointshell);
-      key["reduced_model"] = key_json(object, Product::reduced_model);
-      break;
   }
   return key;
 }
@@ -173,8 +169,6 @@ std::string_view product_name(Product product) noexcept {
       return "pointshell";
     case Product::reduced_model:
       return "reduced_model";
-    case Product::point_tree:
-      return "point_tree";
   }
   return "?";
 }
@@ -187,8 +181,6 @@ bool needs_product(const ObjectDescription& object, Product product) noexcept {
       return object.roles.pointshell;
     case Product::reduced_model:
       return object.is_reduced();
-    case Product::point_tree:
-      return object.roles.pointshell && object.is_reduced();
   }
   return false;
 }

@@ -14,15 +14,14 @@ namespace khz::scene::detail {
 namespace {
 
 /// One missing cached product and the round it is computed in: 0 for what is made from the
-/// mesh alone, 1 for pointshells (a repulsion pointshell samples the field), 2 for point trees
-/// (made from the pointshell and the model's basis).
+/// mesh alone, 1 for pointshells (a repulsion pointshell samples the field).
 struct Task {
   std::size_t object = 0;
   Product product = Product::distance_field;
   int round = 0;
   std::vector<ObjectPreparer::CacheFile> files;
 };
-constexpr int rounds = 3;
+constexpr int rounds = 2;
 
 /// The products missing from the cache, as prepare_scene() would compute them, each once.
 std::vector<Task> missing_products(const SceneDescription& scene, ProductCache& cache,
@@ -40,16 +39,13 @@ std::vector<Task> missing_products(const SceneDescription& scene, ProductCache& 
       if (listed.insert(files.back().path).second) tasks.push_back({index, product, round, files});
     };
     const bool reduced = object.is_reduced();
-    const bool tree = reduced && object.roles.pointshell && !preparer.in_cache(Product::point_tree);
-    const bool shell =
-        object.roles.pointshell && (!reduced || tree) && !preparer.in_cache(Product::pointshell);
+    const bool shell = object.roles.pointshell && !preparer.in_cache(Product::pointshell);
     const bool repulsion = object.pointshell.method == PointshellMethod::repulsion;
     add(reduced && !preparer.in_cache(Product::reduced_model), Product::reduced_model, 0);
     add((object.roles.distance_field || (shell && repulsion)) &&
             !preparer.in_cache(Product::distance_field),
         Product::distance_field, 0);
     add(shell, Product::pointshell, 1);
-    add(tree, Product::point_tree, 2);
   }
   return tasks;
 }

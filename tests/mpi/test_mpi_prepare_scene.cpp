@@ -76,8 +76,8 @@ TEST(MpiPrepareScene, WritesTheFilesOneProcessWritesAndTheNextRunReadsThem) {
   options.group = &group;
   const PreparedScene prepared = prepare_scene(scene, cache, options);
 
-  // Four products to start with (two models, two fields), then the tool's pointshell, then its
-  // tree: each computed by one rank, both ranks busy.
+  // Four products to start with (two models, two fields), then the tool's pointshell: each
+  // computed by one rank, both ranks busy.
   std::set<int> ranks;
   int computed = 0;
   for (const PrepareRecord& record : prepared.records) {
@@ -86,7 +86,7 @@ TEST(MpiPrepareScene, WritesTheFilesOneProcessWritesAndTheNextRunReadsThem) {
     ranks.insert(record.rank);
     EXPECT_GE(record.seconds, 0.0);
   }
-  EXPECT_EQ(computed, 8);  // 2 volume meshes, 2 models, 2 fields, the pointshell, the tree
+  EXPECT_EQ(computed, 7);  // 2 volume meshes, 2 models, 2 fields, the pointshell
   EXPECT_EQ(ranks, (std::set<int>{0, 1}));
   // EXPECT, never ASSERT, in these tests: a rank that left a test early would leave the other
   // waiting in a collective.
@@ -99,7 +99,7 @@ TEST(MpiPrepareScene, WritesTheFilesOneProcessWritesAndTheNextRunReadsThem) {
   for (const std::string& name : file_names(alone)) {
     EXPECT_EQ(test::read_bytes(shared / name), test::read_bytes(alone / name)) << name;
   }
-  EXPECT_EQ(file_names(shared).size(), 8U);
+  EXPECT_EQ(file_names(shared).size(), 7U);
 
   group.sum({&barrier, 1});  // both have compared before anyone reads again
   if (group.rank() == 0) {

@@ -56,7 +56,7 @@ std::string key_after(const std::function<void(Json&)>& edit, Product product) {
 std::string base_key(Product product) { return content_key(tool_of(base_scene()), product); }
 
 const Product all_products[] = {Product::distance_field, Product::pointshell,
-                                Product::reduced_model, Product::point_tree};
+                                Product::reduced_model};
 
 TEST(SceneContentKey, IsCanonicalJson) {
   const std::string key = base_key(Product::distance_field);
@@ -174,13 +174,11 @@ TEST(SceneContentKey, EachProductFollowsItsOwnInputs) {
   const std::string field = base_key(Product::distance_field);
   const std::string shell = base_key(Product::pointshell);
   const std::string model = base_key(Product::reduced_model);
-  const std::string tree = base_key(Product::point_tree);
   for (const Edit& e : edits) {
     SCOPED_TRACE(e.what);
     EXPECT_EQ(key_after(e.edit, Product::distance_field) != field, e.field);
     EXPECT_EQ(key_after(e.edit, Product::pointshell) != shell, e.shell);
     EXPECT_EQ(key_after(e.edit, Product::reduced_model) != model, e.model);
-    EXPECT_EQ(key_after(e.edit, Product::point_tree) != tree, e.shell || e.model);
   }
 }
 
@@ -233,11 +231,9 @@ TEST(SceneContentKey, ProductsAnObjectNeeds) {
   EXPECT_FALSE(needs_product(tool, Product::distance_field));  // no repulsion: no field
   EXPECT_TRUE(needs_product(tool, Product::pointshell));
   EXPECT_TRUE(needs_product(tool, Product::reduced_model));
-  EXPECT_TRUE(needs_product(tool, Product::point_tree));
   EXPECT_TRUE(needs_product(wall, Product::distance_field));
   EXPECT_FALSE(needs_product(wall, Product::pointshell));
   EXPECT_FALSE(needs_product(wall, Product::reduced_model));
-  EXPECT_FALSE(needs_product(wall, Product::point_tree));
   EXPECT_TRUE(test::throws_with_message<reduced::Error>(
       [&] { content_key(wall, Product::reduced_model); },
       "content_key: object \"wall\" has no reduced_model"));
@@ -283,20 +279,6 @@ TEST(SceneContentKey, KeyTextsOfVersionOneStayTheSame) {
        R"("material":{"density":1000.0,"poisson_ratio":0.45,"young_modulus":1000000.0},)"
        R"("meshing":{"enlargement":1.2,"fill_interior":false,"method":"voxels",)"
        R"("resolution":64}},"product":"reduced_model"})"},
-      {"base tree", nothing, Product::point_tree,
-       R"({"key_version":1,"pointshell":{"geometry":{"centre":false,"scale":1.0},)"
-       R"("key_version":1,"mesh":{"extension":".off","xxh3":"<cube>"},)"
-       R"("pointshell":{"field":{"box_expansion":1.5,"cells":128,"exact_band":3.0,)"
-       R"("soup":false},"first_level_points":64,"levels":4,"max_iterations":1000,)"
-       R"("method":"repulsion","radius_factor":1.5,"seed":0,"tolerance":0.001},)"
-       R"("product":"pointshell"},"product":"point_tree",)"
-       R"("reduced_model":{"geometry":{"centre":false,"scale":1.0},"key_version":1,)"
-       R"("mesh":{"extension":".off","xxh3":"<cube>"},"model":{"anchors":[{"max":[1.0,1.0,)"
-       R"(0.1],"min":[0.0,0.0,0.0],"type":"box"}],"basis":{"k":20,"mass":"consistent",)"
-       R"("max_restarts":300,"method":"modes","metric":"mass","modal_derivatives":true,"r":30,)"
-       R"("tolerance":0.0},"material":{"density":1000.0,"poisson_ratio":0.45,)"
-       R"("young_modulus":1000000.0},"meshing":{"enlargement":1.2,"fill_interior":false,)"
-       R"("method":"voxels","resolution":64}},"product":"reduced_model"}})"},
       {"soup field",
        [](Json& s) {
          s["objects"][0]["field"] = {{"soup", true},

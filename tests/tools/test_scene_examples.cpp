@@ -71,7 +71,7 @@ TEST(SceneExamples, TheDeformableDragonOnTheDino) {
   EXPECT_EQ(dragon.name, "dragon");
   EXPECT_TRUE(dragon.is_reduced());
   EXPECT_EQ(scene.haptic.front().role, contact::HapticObject::pointshell);
-  EXPECT_TRUE(needs_product(dragon, Product::point_tree));
+  EXPECT_TRUE(needs_product(dragon, Product::pointshell));
   EXPECT_EQ(dragon.mesh_path.filename(), "ChineseDragon-10kv.off");
   EXPECT_EQ(scene.haptic.front().device.type, DeviceType::trajectory);
 }

@@ -229,7 +229,7 @@ TEST(ScenePrepare, ReducedObjectsGetAModelADeformableTreeAndADeformedField) {
       {"tool", PrepareStep::reduced_model, Origin::computed},
       {"tool", PrepareStep::distance_field, Origin::computed},  // the repulsion's level set
       {"tool", PrepareStep::pointshell, Origin::computed},
-      {"tool", PrepareStep::point_tree, Origin::computed},
+      {"tool", PrepareStep::point_tree, Origin::built},  // never stored
       {"wall", PrepareStep::volume_mesh, Origin::computed},
       {"wall", PrepareStep::reduced_model, Origin::computed},
       {"wall", PrepareStep::distance_field, Origin::computed},
@@ -237,7 +237,7 @@ TEST(ScenePrepare, ReducedObjectsGetAModelADeformableTreeAndADeformedField) {
   EXPECT_EQ(done(prepared), expected);
   EXPECT_EQ(cache_extensions(directory),
             (std::vector<std::string>{".khzmodel", ".khzmodel", ".khzsdf", ".khzsdf", ".khzshell",
-                                      ".khztree", ".msh", ".msh"}));
+                                      ".msh", ".msh"}));
   for (const PrepareRecord& record : prepared.records) {
     EXPECT_EQ(record.file.empty(), record.origin == Origin::built);
     if (!record.file.empty()) {
@@ -303,10 +303,12 @@ TEST(ScenePrepare, ASecondReducedPreparationComputesNothingAndReadsTheSameBits) 
   ProductCache cache(directory);
   const PreparedScene second = prepare_scene(scene_of(reduced_scene()), cache);
   EXPECT_EQ(cache.computed_count(), 0);
-  // Everything is read, but the tool's field and pointshell: its tree holds the pointshell.
+  // Everything is read, but the tool's field (its pointshell is not computed again); the tree
+  // is built from the pointshell and the basis as the first time.
   const std::vector<Done> expected{{"tool", PrepareStep::volume_mesh, Origin::read},
                                    {"tool", PrepareStep::reduced_model, Origin::read},
-                                   {"tool", PrepareStep::point_tree, Origin::read},
+                                   {"tool", PrepareStep::pointshell, Origin::read},
+                                   {"tool", PrepareStep::point_tree, Origin::built},
                                    {"wall", PrepareStep::volume_mesh, Origin::read},
                                    {"wall", PrepareStep::reduced_model, Origin::read},
                                    {"wall", PrepareStep::distance_field, Origin::read},
@@ -329,6 +331,7 @@ TEST(ScenePrepare, ASecondReducedPreparationComputesNothingAndReadsTheSameBits) 
   EXPECT_TRUE(same_bits(tree_a.tree().pointshell().points, tree_b.tree().pointshell().points));
   for (Eigen::Index s = 0; s < tree_a.tree().num_points(); ++s) {
     ASSERT_TRUE(same_bits(tree_a.displacement_modes(s), tree_b.displacement_modes(s))) << s;
+    ASSERT_TRUE(same_bits(tree_a.normal_modes(s), tree_b.normal_modes(s))) << s;
   }
   const contact::DeformedDistanceField& field_a = *first.objects[1].deformed_field;
   const contact::DeformedDistanceField& field_b = *second.objects[1].deformed_field;
@@ -344,7 +347,7 @@ TEST(ScenePrepare, AChangedSettingRecomputesOnlyWhatDependsOnIt) {
   const std::filesystem::path directory = fresh_cache();
   prepare(reduced_scene(), directory);
 
-  // A pointshell setting: the pointshell (from the cached field) and the tree.
+  // A pointshell setting: the pointshell (from the cached field); the tree is built from it.
   Json reseeded = reduced_scene();
   reseeded["objects"][0]["pointshell"]["seed"] = 7;
   {
@@ -354,17 +357,17 @@ TEST(ScenePrepare, AChangedSettingRecomputesOnlyWhatDependsOnIt) {
                                      {"tool", PrepareStep::reduced_model, Origin::read},
                                      {"tool", PrepareStep::distance_field, Origin::read},
                                      {"tool", PrepareStep::pointshell, Origin::computed},
-                                     {"tool", PrepareStep::point_tree, Origin::computed},
+                                     {"tool", PrepareStep::point_tree, Origin::built},
                                      {"wall", PrepareStep::volume_mesh, Origin::read},
                                      {"wall", PrepareStep::reduced_model, Origin::read},
                                      {"wall", PrepareStep::distance_field, Origin::read},
                                      {"wall", PrepareStep::deformed_field, Origin::built}};
     EXPECT_EQ(done(prepared), expected);
-    EXPECT_EQ(cache.computed_count(), 2);
+    EXPECT_EQ(cache.computed_count(), 1);
   }
 
-  // A material: the model (with its volume mesh, stored under the model's key) and the tree;
-  // not the field or the pointshell.
+  // A material: the model (with its volume mesh, stored under the model's key); not the field
+  // or the pointshell.
   Json stiffer = reduced_scene();
   stiffer["objects"][0]["model"]["material"]["young_modulus"] = 2e5;
   {
@@ -373,10 +376,10 @@ TEST(ScenePrepare, AChangedSettingRecomputesOnlyWhatDependsOnIt) {
     const std::vector<Done> expected{{"tool", PrepareStep::volume_mesh, Origin::computed},
                                      {"tool", PrepareStep::reduced_model, Origin::computed},
                                      {"tool", PrepareStep::pointshell, Origin::read},
-                                     {"tool", PrepareStep::point_tree, Origin::computed}};
+                                     {"tool", PrepareStep::point_tree, Origin::built}};
     const std::vector<Done> all = done(prepared);
     EXPECT_EQ(std::vector<Done>(all.begin(), all.begin() + 4), expected);
-    EXPECT_EQ(cache.computed_count(), 3);
+    EXPECT_EQ(cache.computed_count(), 2);
   }
 
   // The integrator, a name and a pose enter no key: nothing is computed, the defaults change.
@@ -440,7 +443,7 @@ TEST(ScenePrepare, EveryRecipeAndSamplingPrepares) {
   const std::vector<Done> expected{{"tool", PrepareStep::volume_mesh, Origin::computed},
                                    {"tool", PrepareStep::reduced_model, Origin::computed},
                                    {"tool", PrepareStep::pointshell, Origin::computed},
-                                   {"tool", PrepareStep::point_tree, Origin::computed},
+                                   {"tool", PrepareStep::point_tree, Origin::built},
                                    {"wall", PrepareStep::volume_mesh, Origin::computed},
                                    {"wall", PrepareStep::reduced_model, Origin::computed},
                                    {"wall", PrepareStep::distance_field, Origin::computed},
@@ -707,7 +710,7 @@ TEST(ScenePrepare, ADamagedCacheFileIsComputedAgainWithAWarningNeverTrusted) {
   const std::vector<Case> cases{
       {".khzmodel", "tool", PrepareStep::reduced_model, flip},
       {".khzmodel", "tool", PrepareStep::reduced_model, cut},
-      {".khztree", "tool", PrepareStep::point_tree, flip},
+      {".khzshell", "tool", PrepareStep::pointshell, flip},
       {".khzsdf", "wall", PrepareStep::distance_field, cut},
       {".msh", "tool", PrepareStep::volume_mesh, change_a_coordinate},
       {".msh", "wall", PrepareStep::volume_mesh, cut},

@@ -13,9 +13,8 @@ namespace khz::tool {
 namespace {
 
 /// Every product an object can need, in the order they are prepared.
-constexpr std::array<scene::Product, 4> products{
-    scene::Product::distance_field, scene::Product::pointshell, scene::Product::reduced_model,
-    scene::Product::point_tree};
+constexpr std::array<scene::Product, 3> products{
+    scene::Product::distance_field, scene::Product::pointshell, scene::Product::reduced_model};
 
 void describe_model(const scene::ModelDescription& model) {
   std::ostream& out = info_line("model", 4);

@@ -30,16 +30,13 @@ enum class Product {
   /// method's settings, with the load file's bytes for sketch and simulation_data). Not the
   /// integrator settings: they can be set on a loaded model (ReducedModel::set_defaults()).
   reduced_model,
-  /// A reduced pointshell's point tree with its modes (.khztree): the pointshell and
-  /// reduced_model inputs together.
-  point_tree,
 };
 
-/// "distance_field", "pointshell", "reduced_model" or "point_tree".
+/// "distance_field", "pointshell" or "reduced_model".
 KHZ_SCENE_API std::string_view product_name(Product product) noexcept;
 
 /// Whether the object needs `product`: distance_field when uses_field(), pointshell for the
-/// pointshell role, reduced_model for a reduced model, point_tree for a reduced pointshell.
+/// pointshell role, reduced_model for a reduced model.
 KHZ_SCENE_API bool needs_product(const ObjectDescription& object, Product product) noexcept;
 
 /// The canonical JSON text of the inputs of `product` (see Product): sorted keys, no spaces,

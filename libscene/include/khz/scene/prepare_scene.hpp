@@ -48,9 +48,10 @@ struct PrepareOptions {
 /// - pointshell: repulsion on the field's zero level set (normals from the surface mesh, or
 ///   from the field's zero isosurface for soups), or vertex / random / voxel samples nested by
 ///   farthest-point order;
-/// - point tree: a rigid pointshell's PointTree is rebuilt from the pointshell every time (it
-///   is the pointshell in another order, 0.09 s for 256k points); a reduced pointshell's
-///   DeformablePointTree is cached (.khztree);
+/// - point tree: built from the pointshell every time, never stored: a rigid pointshell's
+///   PointTree (the pointshell in another order, 0.09 s for 256k points), a reduced one's
+///   DeformablePointTree with modes sampled from the embedding and the basis (0.3 s for the
+///   demo's 262k-point dragon at r = 15, where reading a file of its modes took 0.42 s);
 /// - deformed field (reduced objects with the distance_field role): DeformedDistanceField from
 ///   the rest field, the embedding and the basis with the field's proxies, neighbours and seed;
 ///   built every time (no file format; 0.2 s for a 40-proxy dino at r = 15).

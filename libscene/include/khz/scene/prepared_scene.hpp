@@ -20,17 +20,17 @@
 
 namespace khz::scene {
 
-/// The steps of preparing an object, in the order prepare_scene() takes them. Four are the
+/// The steps of preparing an object, in the order prepare_scene() takes them. Three are the
 /// cached products of content_key.hpp; the volume mesh is cached with the reduced model (under
-/// its key); the deformed field, and the point tree of a rigid pointshell, are built anew at
-/// every preparation (see PreparedObject).
+/// its key); the point tree, the deformed field and the mass properties are built anew at every
+/// preparation (see PreparedObject).
 enum class PrepareStep {
-  volume_mesh,     ///< The reduced model's volume mesh (.msh, Gmsh 2.2 text).
-  reduced_model,   ///< The reduced model with its basis (.khzmodel).
-  distance_field,  ///< The rest-shape distance field (.khzsdf).
-  pointshell,      ///< The pointshell (.khzshell).
-  point_tree,      ///< The point tree: a reduced pointshell's (.khztree), or a rigid one's (built).
-  deformed_field,  ///< A reduced distance-field object's deformed field (built).
+  volume_mesh,      ///< The reduced model's volume mesh (.msh, Gmsh 2.2 text).
+  reduced_model,    ///< The reduced model with its basis (.khzmodel).
+  distance_field,   ///< The rest-shape distance field (.khzsdf).
+  pointshell,       ///< The pointshell (.khzshell).
+  point_tree,       ///< The point tree, rigid or deformable (built).
+  deformed_field,   ///< A reduced distance-field object's deformed field (built).
   mass_properties,  ///< A free object's mass, centre of mass and inertia (built).
 };
 
