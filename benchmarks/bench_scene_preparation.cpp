@@ -1,7 +1,7 @@
 // The first preparation of a scene, as a user trying a new mesh meets it (issue 23, item 2):
 // every product of the README demo scene (examples/scenes/dragon_on_dino.json: the dino's 256³
-// field, the dragon's reduced model, field, 262k-point pointshell and point tree) computed into
-// an empty cache, each product's seconds and the total printed as counters. The cache is a
+// field, the dragon's reduced model, field and 262k-point pointshell) computed into an empty
+// cache and the dragon's point tree built, each step's seconds and the total printed as counters. The cache is a
 // fresh temporary directory, removed afterwards.
 #include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/prepared_scene.hpp>
