@@ -65,18 +65,17 @@ struct PrepareOptions {
 /// Objects with the same inputs in the same scene: the second reads what the first computed.
 ///
 /// Shared preparation (options.group of more than one process): first the cached products
-/// missing from the cache are computed, each by one process, in three rounds (reduced models
-/// and distance fields; then pointshells, which sample the fields; then reduced objects' point
-/// trees), the products of a round dealt to the processes in turn, with a checkpoint of the
-/// group after each round; then every process prepares the scene as above, reading them all.
-/// The files are the ones one process would write, under the same names; a later preparation
-/// by one process computes nothing. The records of products computed in the first part say
-/// which process computed them (PrepareRecord::rank) and how long it took; a computed
-/// product's note is kept only by the process that computed it. A failure or a cancel on any
-/// process ends the call on every process at the next checkpoint: the failing process throws
-/// its own PrepareError, the others a reduced::Error that names it; a cancel gives Cancelled
-/// everywhere. A process that dies (killed, out of memory) ends the job through the launcher
-/// (mpiexec), as for any MPI program; the temporary file it was writing is removed by the
+/// missing from the cache are computed, each by one process, in two rounds (reduced models
+/// and distance fields; then pointshells, which sample the fields), the products of a round
+/// dealt to the processes in turn, with a checkpoint of the group after each round; then every
+/// process prepares the scene as above, reading them all. The files are the ones one process would
+/// write, under the same names; a later preparation by one process computes nothing. The records of
+/// products computed in the first part say which process computed them (PrepareRecord::rank) and
+/// how long it took; a computed product's note is kept only by the process that computed it. A
+/// failure or a cancel on any process ends the call on every process at the next checkpoint: the
+/// failing process throws its own PrepareError, the others a reduced::Error that names it; a cancel
+/// gives Cancelled everywhere. A process that dies (killed, out of memory) ends the job through the
+/// launcher (mpiexec), as for any MPI program; the temporary file it was writing is removed by the
 /// next preparation with this cache on the same host (ProductCache).
 ///
 /// Then PreparedScene::warnings gets one entry per object whose size (the longest side of its
