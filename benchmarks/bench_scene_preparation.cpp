@@ -1,8 +1,8 @@
 // The first preparation of a scene, as a user trying a new mesh meets it (issue 23, item 2):
 // every product of the README demo scene (examples/scenes/dragon_on_dino.json: the dino's 256³
 // field, the dragon's reduced model, field and 262k-point pointshell) computed into an empty
-// cache and the dragon's point tree built, each step's seconds and the total printed as counters. The cache is a
-// fresh temporary directory, removed afterwards.
+// cache and the dragon's point tree built, each step's seconds and the total printed as counters.
+// The cache is a fresh temporary directory, removed afterwards.
 #include <khz/scene/prepare_scene.hpp>
 #include <khz/scene/prepared_scene.hpp>
 #include <khz/scene/product_cache.hpp>
