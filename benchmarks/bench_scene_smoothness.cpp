@@ -4,7 +4,10 @@
 // cut), the contact force's error against the full traversal over the run's states in contact,
 // and a steady press: the scene's device held still for 0.5 s from the cycle of its largest
 // contact force, the simulation pose's step and turn once the hand has been still for 0.1 s
-// (targets: jump p99 ≤ 5 %, steady press ≤ 1 µm and ≤ 1e-4 rad); under a time budget, how many
+// (targets: jump p99 ≤ 5 %, steady press ≤ 1 µm and ≤ 1e-4 rad), and the largest step and turn
+// once it has been still for 0.3 s (the issue's "manipulandum still for 0.3 s": what a press has
+// settled to, where the 0.1 s figures also catch the last of a slow decaying sway); under a time
+// budget, how many
 // of the cut cycles would have fit (their cycle in a run without degradation took at most the
 // budget; the two runs follow nearly the same states), and how many took at most 90 % of it.
 // A plain program (CLI11): the first run prepares the scenes into --cache (minutes), later runs
@@ -46,7 +49,11 @@ struct SceneFigures {
   double hold_time = 0, still_step_p99 = 0, still_step_max = 0, still_turn_p99 = 0,
          still_turn_max = 0;
   std::int64_t still_cycles = 0;
+  double settled_step_max = 0, settled_turn_max = 0;  // once still for settled_after
 };
+
+/// How long the hand is held still before the press counts as settled (issue 19, item 2).
+constexpr double settled_after = 0.3;
 
 /// `log`: where to write the steady press's cycle log (none if empty).
 SceneFigures measure(scene::PreparedScene& prepared, const std::filesystem::path& log) {
@@ -107,6 +114,14 @@ SceneFigures measure(scene::PreparedScene& prepared, const std::filesystem::path
   f.still_turn_p99 = s.still_rotation.p99;
   f.still_turn_max = s.still_rotation.max;
   f.still_cycles = s.still_translation.count;
+  const std::vector<scene::CycleRow>& held = press.rows.front();
+  for (std::size_t i = 1; i < held.size(); ++i) {
+    if (held[i - 1].time < press.hold_time + settled_after) continue;
+    f.settled_step_max =
+        std::max(f.settled_step_max, (held[i].simulation - held[i - 1].simulation).norm());
+    f.settled_turn_max =
+        std::max(f.settled_turn_max, held[i].orientation.angularDistance(held[i - 1].orientation));
+  }
   return f;
 }
 
@@ -125,19 +140,21 @@ int main(int argc, char** argv) {
   app.add_option("--cache", cache, "Product cache directory");
   app.add_flag("--map", map, "Also print each scene's stability map");
   app.add_option("--logs", logs,
-                 "Write each scene's steady press as DIR/<scene>_press.csv (cycle log)");
+                 "Write each scene's steady press as DIR/<scene>_press.csv (cycle log; DIR is "
+                 "created)");
   bool without_degradation = false;
   app.add_flag("--without-degradation", without_degradation,
                "Run every scene with contact.degradation.mode none, to tell what the time budget "
                "does from what it does not");
   CLI11_PARSE(app, argc, argv);
+  if (!logs.empty()) std::filesystem::create_directories(logs);
 
-  std::printf("%-26s %8s %8s %8s %10s %7s %7s %7s %8s %8s %10s %10s %10s %10s\n", "scene",
+  std::printf("%-26s %8s %8s %8s %10s %7s %7s %7s %8s %8s %10s %10s %10s %10s %10s %10s\n", "scene",
               "jump p99", "rendered", "deepest", "observer", "cut", "of them", "of them", "F error",
-              "F max", "still p99", "still max", "turn p99", "turn max");
-  std::printf("%-26s %8s %8s %8s %10s %7s %7s %7s %8s %8s %10s %10s %10s %10s\n", "", "% peak",
-              "% peak", "voxels", "lowest J", "cycles", "fit", "≤ 90 %", "RMS %", "%", "µm", "µm",
-              "rad", "rad");
+              "F max", "still p99", "still max", "turn p99", "turn max", "0.3 s max", "0.3 s max");
+  std::printf("%-26s %8s %8s %8s %10s %7s %7s %7s %8s %8s %10s %10s %10s %10s %10s %10s\n", "",
+              "% peak", "% peak", "voxels", "lowest J", "cycles", "fit", "≤ 90 %", "RMS %", "%",
+              "µm", "µm", "rad", "rad", "µm", "rad");
   for (const std::string& name : scenes) {
     scene::ProductCache products(cache);
     scene::PreparedScene prepared = scene::prepare_scene(
@@ -150,14 +167,14 @@ int main(int argc, char** argv) {
                                        : std::filesystem::path(logs) / (name + "_press.csv"));
     std::printf(
         "%-26s %7.1f%% %7.1f%% %8.2f %10.3g %7lld %7s %7s %7.2f%% %7.2f%% %10.3g %10.3g %10.3g "
-        "%10.3g%s\n",
+        "%10.3g %10.3g %10.3g%s\n",
         name.c_str(), f.contact_jump, f.rendered_jump, f.deepest_voxels, f.lowest_energy,
         static_cast<long long>(f.cut_cycles),
         f.cut_that_fit < 0 ? "–" : std::to_string(f.cut_that_fit).c_str(),
         f.cut_that_clearly_fit < 0 ? "–" : std::to_string(f.cut_that_clearly_fit).c_str(),
         100.0 * f.force_error, 100.0 * f.max_force_error, 1e6 * f.still_step_p99,
-        1e6 * f.still_step_max, f.still_turn_p99, f.still_turn_max,
-        f.still_cycles > 0 ? "" : "  (never still)");
+        1e6 * f.still_step_max, f.still_turn_p99, f.still_turn_max, 1e6 * f.settled_step_max,
+        f.settled_turn_max, f.still_cycles > 0 ? "" : "  (never still)");
     if (map) {
       const std::vector<scene::StabilityPoint> points =
           scene::stability_map(prepared, scene::default_stability_settings(prepared.description));
