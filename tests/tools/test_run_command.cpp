@@ -173,6 +173,9 @@ TEST(KhzReport, WritesTablesAndPlots) {
     EXPECT_GT(image.width(), 100) << plot;
   }
   EXPECT_TRUE(has_line_with(run, {"stability map: the scene run 12 times"}));
+  // Progress names each replay's setting once: "replaying: level 0: 0.01 s".
+  EXPECT_TRUE(has_line_with(run, {"replaying: level 0: "}));
+  EXPECT_EQ(run.output.find("level 0: level 0"), std::string::npos) << run.output;
   EXPECT_TRUE(has_line_with(run, {"loop.rate_hz = 500:", "stable"}));
 
   // --no-stability leaves the map out.

@@ -43,7 +43,7 @@ void report(const RunRequest& request, bool stability) {
   const std::vector<scene::SweepResult> sweep =
       scene::sweep_contact(runtime, result.states, settings, scene::default_sweep_states,
                            [&](const reduced::Progress& progress) {
-                             bar.update("replaying: " + std::string(progress.stage), progress);
+                             bar.update("replaying", progress);
                              return !interrupt.requested();
                            });
   bar.clear();
@@ -57,7 +57,7 @@ void report(const RunRequest& request, bool stability) {
     stability_points = scene::stability_map(
         session.prepared(), runs, request.duration, session.devices(),
         [&](const reduced::Progress& progress) {
-          bar.update("stability map: " + std::string(progress.stage), progress);
+          bar.update("stability map", progress);
           return !interrupt.requested();
         });
     bar.clear();
