@@ -18,7 +18,7 @@ void add_prep_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "prep",
       "Prepare a scene: compute, or read from the cache, each object's distance field, "
-      "pointshell and point tree, and reduced model, as its roles and model need");
+      "pointshell and reduced model, as its roles and model need, and build its point tree");
   command->add_option("scene", args->scene, "Scene file (JSON, docs/SCENES.md)")
       ->required()
       ->check(CLI::ExistingFile);
