@@ -185,8 +185,9 @@ computed or read from the cache (khz::scene::PreparedScene); run it with SceneRu
         return scene::prepare_scene(description, cache, options);
       },
       py::arg("scene"), py::arg("cache_directory") = py::none(), py::arg("progress") = py::none(),
-      R"(Prepares every object of the scene: reduced models, distance fields, pointshells and
-trees, each computed once and cached by the content of its inputs (default_cache_directory()).
+      R"(Prepares every object of the scene: reduced models, distance fields and pointshells, each
+computed once and cached by the content of its inputs (default_cache_directory()), and the
+point trees, built from them every time.
 progress: None or a callable(stage, done, total) -> bool, stage reading "object: step: what";
 False cancels (Cancelled, no partial file). Ctrl-C stops it. Runs without the GIL. Raises
 PrepareError naming the object and step.)");
