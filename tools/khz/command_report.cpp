@@ -54,12 +54,12 @@ void report(const RunRequest& request, bool stability) {
         scene::default_stability_settings(session.prepared().description);
     std::cout << "stability map: the scene run " << runs.size()
               << " times, one parameter changed at a time (--no-stability skips it)\n";
-    stability_points = scene::stability_map(
-        session.prepared(), runs, request.duration, session.devices(),
-        [&](const reduced::Progress& progress) {
-          bar.update("stability map", progress);
-          return !interrupt.requested();
-        });
+    stability_points =
+        scene::stability_map(session.prepared(), runs, request.duration, session.devices(),
+                             [&](const reduced::Progress& progress) {
+                               bar.update("stability map", progress);
+                               return !interrupt.requested();
+                             });
     bar.clear();
     for (const scene::StabilityPoint& point : stability_points) {
       std::cout << "  " << point.setting.name() << ": "
