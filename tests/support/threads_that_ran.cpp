@@ -8,24 +8,37 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <string>
+#include <utility>
 
 namespace khz::test {
 namespace {
 
-/// Voluntary plus involuntary context switches of each thread of this process so far.
-std::map<pid_t, long> context_switches() {
-  std::map<pid_t, long> switches;
+/// What a thread has done so far: its context switches (voluntary and involuntary) and its time
+/// on a CPU (ns, /proc schedstat). A thread woken for work may still be running when sampled,
+/// not yet switched out, so switches alone can miss it; a thread that ran less than a scheduler
+/// tick may not show its time yet, so time alone can too.
+struct Activity {
+  long switches = 0;
+  long long cpu_ns = 0;
+  bool operator==(const Activity&) const = default;
+};
+
+std::map<pid_t, Activity> activity() {
+  std::map<pid_t, Activity> threads;
   for (const pid_t thread : process_threads()) {
-    std::ifstream status("/proc/self/task/" + std::to_string(thread) + "/status");
-    long total = 0;
+    const std::string task = "/proc/self/task/" + std::to_string(thread);
+    Activity& a = threads[thread];
+    std::ifstream status(task + "/status");
     for (std::string line; std::getline(status, line);) {
       if (line.find("ctxt_switches:") != std::string::npos) {
-        total += std::strtol(line.c_str() + line.find(':') + 1, nullptr, 10);
+        a.switches += std::strtol(line.c_str() + line.find(':') + 1, nullptr, 10);
       }
     }
-    switches[thread] = total;
+    std::ifstream schedstat(task + "/schedstat");
+    schedstat >> a.cpu_ns;
   }
-  return switches;
+  return threads;
 }
 
 /// "id (name) state, user + system ticks" from the thread's stat line.
@@ -59,19 +72,35 @@ std::vector<pid_t> process_threads() {
 
 std::vector<std::string> other_threads_in_a_second_run(const std::function<void()>& work) {
   work();
+  wait_until_other_threads_are_still();
   return other_threads_that_ran(work);
 }
 
+void wait_until_other_threads_are_still() {
+  constexpr int window_us = 50'000;  // far longer than a sched_yield() loop's turns
+  constexpr int max_windows = 100;   // 5 s: then measure anyway, and let the test tell
+  const pid_t self = gettid();
+  std::map<pid_t, Activity> before = activity();
+  before.erase(self);
+  for (int window = 0; window < max_windows; ++window) {
+    usleep(window_us);
+    std::map<pid_t, Activity> after = activity();
+    after.erase(self);
+    if (after == before) return;
+    before = std::move(after);
+  }
+}
+
 std::vector<std::string> other_threads_that_ran(const std::function<void()>& work) {
-  const std::map<pid_t, long> before = context_switches();
+  const std::map<pid_t, Activity> before = activity();
   work();
-  const std::map<pid_t, long> after = context_switches();
+  const std::map<pid_t, Activity> after = activity();
   const pid_t self = gettid();
   std::vector<std::string> ran;
-  for (const auto& [thread, switches] : after) {
+  for (const auto& [thread, done] : after) {
     if (thread == self) continue;
     const auto earlier = before.find(thread);
-    if (earlier != before.end() && earlier->second == switches) continue;
+    if (earlier != before.end() && earlier->second == done) continue;
     ran.push_back(describe(thread));
   }
   return ran;
