@@ -94,6 +94,8 @@ const OptionTable<contact::ContactOptions>& option_table() {
       number("scaling_count", &O::scaling_count, above(0.0)),
       integer("max_level", &O::max_level, at_least(-1)),
       choice("gradient", &O::gradient, contact_gradients),
+      number("onset_depth", &O::onset_depth, at_least(0.0)),
+      number("onset_voxels", &O::onset_voxels, at_least(0.0)),
   };
   return table;
 }

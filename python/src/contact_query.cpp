@@ -170,7 +170,8 @@ void bind_options(py::module_& module) {
       .def(py::init([](double stiffness, double scaling_count, int max_level,
                        const std::string& gradient, const std::string& degradation,
                        double warm_threshold, double budget_microseconds, bool coherence,
-                       double static_friction, double kinetic_friction, double stick_distance) {
+                       double static_friction, double kinetic_friction, double stick_distance,
+                       double onset_voxels, double onset_depth) {
              ContactOptions o;
              o.stiffness = stiffness;
              o.scaling_count = scaling_count;
@@ -202,6 +203,8 @@ void bind_options(py::module_& module) {
              o.friction.static_coefficient = static_friction;
              o.friction.kinetic_coefficient = kinetic_friction;
              o.friction.stick_distance = stick_distance;
+             o.onset_voxels = onset_voxels;
+             o.onset_depth = onset_depth;
              o.validate();
              return o;
            }),
@@ -210,15 +213,20 @@ void bind_options(py::module_& module) {
            py::arg("degradation") = "none", py::arg("warm_threshold") = 2500.0,
            py::arg("budget_microseconds") = 250.0, py::arg("coherence") = false,
            py::arg("static_friction") = 0.0, py::arg("kinetic_friction") = 0.0,
-           py::arg("stick_distance") = 0.0,
+           py::arg("stick_distance") = 0.0, py::arg("onset_voxels") = 0.1,
+           py::arg("onset_depth") = 0.0,
            R"(stiffness k_C (N/m); scaling_count ℓ of the L/ℓ normalisation; max_level (-1: all);
 gradient 'field_gradient' or 'normal_direction'; degradation 'none', 'node_count'
 (warm_threshold) or 'time_budget' (budget_microseconds); coherence: temporal coherence;
-static_/kinetic_friction μ_s ≥ μ_k, stick_distance δ (m; 0: μ_s times the field's voxel).
+static_/kinetic_friction μ_s ≥ μ_k, stick_distance δ (m; 0: μ_s times the field's voxel);
+onset_voxels, onset_depth: the contact onset δ over which a point's force and count grow from
+zero (in the field's voxels, or m when onset_depth > 0; onset_voxels 0: eq. 3.1's step).
 Raises Error naming an invalid value.)")
       .def_readonly("stiffness", &ContactOptions::stiffness)
       .def_readonly("scaling_count", &ContactOptions::scaling_count)
-      .def_readonly("max_level", &ContactOptions::max_level);
+      .def_readonly("max_level", &ContactOptions::max_level)
+      .def_readonly("onset_voxels", &ContactOptions::onset_voxels)
+      .def_readonly("onset_depth", &ContactOptions::onset_depth);
 }
 
 /// A 4×4 world ← body matrix as a pose; the rotation must be orthonormal.

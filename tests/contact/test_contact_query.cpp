@@ -26,14 +26,34 @@ namespace {
 
 using namespace query_test;
 
-/// The reference: every point of levels 0…deepest, no tree, straight from eq. 3.1 and §3.5.
+/// The reference: every point of levels 0…deepest, no tree, straight from eq. 3.1 and §3.5, each
+/// point through the contact onset of ContactOptions::onset_depth.
 struct BruteForce {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   // on the field object
   Eigen::Vector3d torque = Eigen::Vector3d::Zero();  // about the grasp point
   Eigen::VectorXd reduced;                           // Σ U_sᵀ (force on point s, body frame)
   std::int64_t contacts = 0;
   double deepest_penetration = 0.0;  // −min d over the points in contact
+  double weight = 0.0;               // ℓ
+  std::int64_t within_onset = 0;     // points in contact shallower than the onset depth
 };
+
+/// A point `depth` > 0 deep through an onset of depth δ: how far it pushes (its force is k_C
+/// times that) and how much of a point it counts in ℓ. Within δ: depth²/(2δ) and depth/δ; deeper:
+/// depth − δ/2 and 1 (δ = 0: eq. 3.1).
+struct OnsetPush {
+  double push, count;
+  OnsetPush(double depth, double onset)
+      : push(depth < onset ? depth * depth / (2.0 * onset) : depth - onset / 2.0),
+        count(depth < onset ? depth / onset : 1.0) {}
+};
+
+/// δ of `options` against `field`: its voxel if it has one.
+template <typename Field>
+double onset_of(const ContactOptions& options, const Field& field) {
+  if constexpr (requires { field.cell_size(); }) return options.onset_depth_for(field.cell_size());
+  return options.onset_depth_for(0.0);
+}
 
 template <typename Field>
 BruteForce brute_force(const PointTree& tree, const DeformablePointTree* deformable,
@@ -42,6 +62,7 @@ BruteForce brute_force(const PointTree& tree, const DeformablePointTree* deforma
   BruteForce sum;
   sum.reduced = Eigen::VectorXd::Zero(deformable != nullptr ? deformable->dimension() : 0);
   double weight = 0.0;
+  const double onset = onset_of(options, field);
   for (Eigen::Index s = 0; s < tree.pointshell().level_end(deepest); ++s) {
     const Eigen::Vector3d body = deformable != nullptr
                                      ? deformable->position(s, q)
@@ -58,17 +79,21 @@ BruteForce brute_force(const PointTree& tree, const DeformablePointTree* deforma
     const Eigen::Vector3d normal_body = deformable != nullptr
                                             ? deformable->normal(s, q)
                                             : Eigen::Vector3d(tree.pointshell().normals.row(s));
-    const Eigen::Vector3d f = options.stiffness * d * (frames.pointshell.linear() * normal_body);
+    const OnsetPush onset_push(-d, onset);
+    const Eigen::Vector3d f =
+        -options.stiffness * onset_push.push * (frames.pointshell.linear() * normal_body);
     sum.force += f;
     sum.torque += (x - frames.grasp_point).cross(f);
     if (deformable != nullptr) {
       sum.reduced += deformable->displacement_modes(s).transpose() *
                      (frames.pointshell.linear().transpose() * -f);
     }
-    weight += 1.0;
+    weight += onset_push.count;
     ++sum.contacts;
+    if (-d < onset) ++sum.within_onset;
     sum.deepest_penetration = std::max(sum.deepest_penetration, -d);
   }
+  sum.weight = weight;
   const double scale = options.scaling_count / std::max(options.scaling_count, weight);
   sum.force *= scale;
   sum.torque *= scale;
@@ -130,20 +155,75 @@ TEST(ContactQuery, RigidTreeEqualsBruteForceOverEveryPointAgainstAnalyticShapes)
 }
 
 TEST(ContactQuery, RigidTreeEqualsBruteForceAgainstASampledGrid) {
+  // The unit sphere pressed 1–11 cm into the top face of the unit cube's sampled field, turned.
   const PointTree& tree = fixture().sphere;
   DistanceFieldOptions field_options;
   field_options.cells = 48;
   const DistanceGrid grid = signed_distance_field(test::unit_cube_surface(), field_options);
   ContactOptions options;
+  options.onset_voxels = 1.0;  // deep enough that many of the poses' points lie within it
   ContactWorkspace workspace(tree, options);
-  for (const ContactFrames& frames : sphere_poses()) {
+  std::int64_t within_onset = 0, scaled = 0;
+  for (int i = 0; i < 6; ++i) {
+    ContactFrames frames;
+    frames.pointshell = pose(Eigen::Vector3d(0.2 * i, -0.1, 0.3),
+                             Eigen::Vector3d(0.5 + 0.03 * i, 0.45, 1.99 - 0.02 * i));
+    frames.grasp_point = Eigen::Vector3d(0.2, 0.3, 1.5);  // off the centre: a torque
     ASSERT_TRUE(query_contact(tree, grid, frames, workspace));
     const BruteForce expected =
         brute_force(tree, nullptr, {}, grid, frames, options, tree.num_levels() - 1);
     EXPECT_EQ(workspace.result().statistics.points_in_contact, expected.contacts);
     expect_close(workspace.result().force, expected.force, 1e-12);
     expect_close(workspace.result().torque, expected.torque, 1e-12);
+    within_onset += expected.within_onset;
+    scaled += expected.weight > options.scaling_count ? 1 : 0;
   }
+  EXPECT_GT(within_onset, 0) << "the grid's voxel gives the onset its depth";
+  EXPECT_GE(scaled, 4) << "the poses exercise the L/ℓ scaling";
+}
+
+TEST(ContactQuery, TheOnsetKeepsTheForceContinuousAsPointsEnterContact) {
+  // The unit sphere lowered onto the unit cube's top face in steps of 10 µm, tens of points in
+  // contact and L = 10: under eq. 3.1 each point entering contact adds 1 to ℓ at no force, so
+  // the L/ℓ-scaled force drops by about 1/ℓ of itself in one step; through the default onset
+  // (0.1 voxel) a point's force and count grow from zero, and no step changes the force by more
+  // than the press itself does.
+  const PointTree& tree = fixture().sphere;
+  DistanceFieldOptions field_options;
+  field_options.cells = 48;
+  const DistanceGrid grid = signed_distance_field(test::unit_cube_surface(), field_options);
+  const auto largest_step = [&](const ContactOptions& options, double& onset_share) {
+    ContactWorkspace workspace(tree, options);
+    double largest = 0.0, previous = 0.0;
+    std::int64_t within_onset = 0, in_contact = 0;
+    for (int step = 0; step <= 1500; ++step) {
+      const double depth = 0.005 + 1e-5 * step;
+      ContactFrames frames;
+      // Turned, so that no point's height is a round multiple of the step (the sphere's points
+      // lie on a lattice of heights).
+      frames.pointshell =
+          pose(Eigen::Vector3d(0.3, -0.2, 0.1), Eigen::Vector3d(0.5, 0.5, 2.0 - depth));
+      EXPECT_TRUE(query_contact(tree, grid, frames, workspace));
+      const double force = workspace.result().force.norm();
+      if (step > 0) largest = std::max(largest, std::abs(force - previous) / previous);
+      previous = force;
+      const BruteForce expected =
+          brute_force(tree, nullptr, {}, grid, frames, options, tree.num_levels() - 1);
+      if (step % 100 == 0) expect_close(workspace.result().force, expected.force, 1e-12);
+      in_contact += expected.contacts;
+      within_onset += expected.within_onset;
+    }
+    onset_share = static_cast<double>(within_onset) / static_cast<double>(in_contact);
+    return largest;
+  };
+  ContactOptions step_count;
+  step_count.onset_voxels = 0.0;
+  double unused = 0.0, shallow = 0.0;
+  const double without = largest_step(step_count, unused);
+  const double with = largest_step(ContactOptions{}, shallow);
+  EXPECT_GT(without, 0.02) << "eq. 3.1's count jumps";
+  EXPECT_LT(with, 0.005) << "through the onset";
+  EXPECT_GT(shallow, 0.0) << "some points in contact lie within the onset";
 }
 
 TEST(ContactQuery, DeformableTreeEqualsBruteForceWithReducedForces) {
@@ -214,14 +294,14 @@ TEST(ContactQuery, DeformableAgainstDeformableAppliesTheReactionToBothObjects) {
     expect_close(result.pointshell_reduced_force, expected.reduced, 1e-12);
     // The reaction on the field object, projected at the nearest proxies, recomputed here.
     Eigen::VectorXd field_reduced = Eigen::VectorXd::Zero(deformed.dimension());
-    const double scale = options.scaling_count /
-                         std::max(options.scaling_count, static_cast<double>(expected.contacts));
+    const double scale = options.scaling_count / std::max(options.scaling_count, expected.weight);
     for (Eigen::Index s = 0; s < tree.tree().num_points(); ++s) {
       const Eigen::Vector3d x = frames.pointshell * tree.position(s, q);
       const Eigen::Vector3d body = frames.field.inverse() * x;
       const double d = field.distance(body);
       if (!(d < 0.0)) continue;
-      const Eigen::Vector3d force_world = options.stiffness * d * tree.normal(s, q);
+      const Eigen::Vector3d force_world =
+          -options.stiffness * OnsetPush(-d, onset_of(options, field)).push * tree.normal(s, q);
       const Eigen::Index n = field.nearest_proxy(body);
       field_reduced += deformed.displacement_modes(n).transpose() *
                        (frames.field.linear().transpose() * (scale * force_world));
@@ -232,17 +312,15 @@ TEST(ContactQuery, DeformableAgainstDeformableAppliesTheReactionToBothObjects) {
   EXPECT_GE(touching, 4);
 }
 
-class ContactGradients : public ::testing::TestWithParam<HapticObject> {};
-
-TEST_P(ContactGradients, MatchFiniteDifferencesForRigidAndDeformablePointshells) {
-  // A smooth field (a sphere) and L large: the force is differentiable and ℓ's jumps do not
-  // scale it, so central differences see exactly what the gradients describe.
+/// ContactGradients' check, for one haptic object and onset depth (m).
+void expect_gradients_match_finite_differences(HapticObject held, double onset) {
   const ImplicitUnion field(
       {Sphere(Eigen::Vector3d(0.2, 0.0, 0.0), 0.6), Sphere(Eigen::Vector3d(-0.4, 0.3, 0.1), 0.3)});
   ContactOptions options;
   options.stiffness = 500.0;
   options.scaling_count = 1e9;
-  options.haptic_object = GetParam();
+  options.haptic_object = held;
+  options.onset_depth = onset;
   ContactFrames frames;
   frames.pointshell = pose(Eigen::Vector3d(0.2, -0.1, 0.4), Eigen::Vector3d(0.1, 0.0, -0.2));
   frames.field = pose(Eigen::Vector3d(-0.3, 0.2, 0.1), Eigen::Vector3d(0.5, 0.6, 0.9));
@@ -254,7 +332,7 @@ TEST_P(ContactGradients, MatchFiniteDifferencesForRigidAndDeformablePointshells)
   ASSERT_GT(rigid.result().statistics.points_in_contact, 20);
   const ContactResult rigid_result = rigid.result();
   expect_gradients_match(rigid_result,
-                         finite_differences(frames, GetParam(), [&](const ContactFrames& moved) {
+                         finite_differences(frames, held, [&](const ContactFrames& moved) {
                            query_contact(sphere, field, moved, rigid);
                            return rigid.result();
                          }));
@@ -269,12 +347,23 @@ TEST_P(ContactGradients, MatchFiniteDifferencesForRigidAndDeformablePointshells)
   ASSERT_TRUE(query_contact(cube, q, field, cube_frames, deformable));
   ASSERT_GT(deformable.result().statistics.points_in_contact, 20);
   const ContactResult deformable_result = deformable.result();
-  expect_gradients_match(
-      deformable_result,
-      finite_differences(cube_frames, GetParam(), [&](const ContactFrames& moved) {
-        query_contact(cube, q, field, moved, deformable);
-        return deformable.result();
-      }));
+  expect_gradients_match(deformable_result,
+                         finite_differences(cube_frames, held, [&](const ContactFrames& moved) {
+                           query_contact(cube, q, field, moved, deformable);
+                           return deformable.result();
+                         }));
+}
+
+class ContactGradients : public ::testing::TestWithParam<HapticObject> {};
+
+TEST_P(ContactGradients, MatchFiniteDifferencesForRigidAndDeformablePointshells) {
+  // A smooth field (a sphere) and L large: the force is differentiable and ℓ's jumps do not
+  // scale it, so central differences see exactly what the gradients describe. Eq. 3.1, and a
+  // contact onset deeper than some points in contact and shallower than others.
+  for (const double onset : {0.0, 0.05}) {
+    SCOPED_TRACE(testing::Message() << "onset depth " << onset);
+    expect_gradients_match_finite_differences(GetParam(), onset);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(HapticObjects, ContactGradients,

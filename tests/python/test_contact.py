@@ -90,6 +90,27 @@ def test_a_deformable_pointshell_at_rest_pushes_like_the_rigid_one(tmp_path):
         kc.ContactQuery(deformable).query(floor)
 
 
+def test_the_contact_onset_halves_a_uniform_shallow_press():
+    # 36 points 1 mm deep in a floor sampled on a 1 cm grid. Within an onset deeper than that,
+    # each pushes with k d²/(2δ) and counts d/δ, so once the count exceeds L the L/ℓ-scaled force
+    # is L k d / 2: half of eq. 3.1's L k d, whatever δ is.
+    xy = np.stack(np.meshgrid(np.arange(6), np.arange(6)), axis=-1).reshape(-1, 2) * 0.004
+    points = np.column_stack([xy, np.zeros(len(xy))])
+    tree = kc.PointTree(kc.Pointshell(points, np.tile([0.0, 0.0, 1.0], (len(points), 1))))
+    geometry = kc.GridGeometry([-0.1, -0.1, -0.1], 0.01, 30)
+    n = geometry.nodes_per_axis
+    z = geometry.origin[2] + geometry.spacing * np.arange(n)
+    floor = kc.DistanceGrid(geometry, np.broadcast_to((z - 0.001)[:, None, None], (n, n, n)), True)
+    step = kc.ContactQuery(tree, kc.ContactOptions(onset_voxels=0)).query(floor).force
+    np.testing.assert_allclose(step, [0.0, 0.0, -1000.0 * 10 * 0.001], atol=1e-12)
+    for options in (kc.ContactOptions(onset_voxels=0.2), kc.ContactOptions(onset_depth=0.003)):
+        assert options.onset_voxels > 0 or options.onset_depth > 0
+        np.testing.assert_allclose(kc.ContactQuery(tree, options).query(floor).force, 0.5 * step,
+                                   rtol=1e-6)
+    with pytest.raises(kilohertz.Error, match="onset_voxels"):
+        kc.ContactOptions(onset_voxels=-1)
+
+
 def test_pointshell_files_round_trip(cgal_meshes, tmp_path):
     shell = kc.repulsion_pointshell(kr.read_triangle_mesh(cgal_meshes / "elephant.off"), cells=32,
                                     first_level_points=16, levels=3)

@@ -287,6 +287,7 @@ TEST(SceneDescription, EverySettingReachesItsMember) {
     "haptic": {"object": "tool", "role": "distance_field", "grasp_point": [0.01, 0.02, 0.03]},
     "contact": {
       "stiffness": 2000, "scaling_count": 5, "max_level": 3, "gradient": "normal_direction",
+      "onset_voxels": 0.3, "onset_depth": 1e-4,
       "degradation": {"mode": "time_budget", "budget_microseconds": 100, "cold_fraction": 0.5,
                       "contact_weight": 1.5},
       "coherence": {"enabled": true, "max_translation": 0.001, "max_rotation": 0.01,
@@ -379,6 +380,8 @@ TEST(SceneDescription, EverySettingReachesItsMember) {
   EXPECT_EQ(s.contact.scaling_count, 5.0);
   EXPECT_EQ(s.contact.max_level, 3);
   EXPECT_EQ(s.contact.gradient, contact::ContactGradient::normal_direction);
+  EXPECT_EQ(s.contact.onset_voxels, 0.3);
+  EXPECT_EQ(s.contact.onset_depth, 1e-4);
   EXPECT_EQ(s.contact.degradation.mode, contact::DegradationOptions::Mode::time_budget);
   EXPECT_EQ(s.contact.degradation.budget_microseconds, 100.0);
   EXPECT_EQ(s.contact.degradation.cold_fraction, 0.5);

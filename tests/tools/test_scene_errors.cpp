@@ -329,6 +329,10 @@ TEST(SceneErrors, Friction) {
                            s["contact"] = {{"friction", {{"mu_s", 0.2}}}};
                          }),
                          "contact.friction.mu_s", "unknown key; did you mean \"static\"?"));
+  EXPECT_TRUE(fails_with(edited([](Json& s) {
+                           s["contact"] = {{"onset_voxels", -0.1}};
+                         }),
+                         "contact.onset_voxels", "expected a number ≥ 0, got -0.1"));
   // Two hands: the tool and the ball (pointshells), the wall and the floor fixed (fields).
   const auto pairs = [](Json entries) {
     return edited([&](Json& s) {

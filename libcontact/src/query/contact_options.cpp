@@ -22,6 +22,9 @@ void ContactOptions::validate() const {
   require(finite_positive(stiffness), "stiffness", stiffness, "finite and > 0 (N/m)");
   require(finite_positive(scaling_count), "scaling_count", scaling_count, "finite and > 0");
   require(max_level >= -1, "max_level", max_level, "≥ −1");
+  require(finite_non_negative(onset_depth), "onset_depth", onset_depth,
+          "finite and ≥ 0 (m; 0: onset_voxels times the field's voxel)");
+  require(finite_non_negative(onset_voxels), "onset_voxels", onset_voxels, "finite and ≥ 0");
   const DegradationOptions& d = degradation;
   require(finite_positive(d.warm_threshold), "degradation.warm_threshold", d.warm_threshold,
           "finite and > 0");

@@ -70,7 +70,8 @@ struct FrictionSums {
 
 /// One point in contact: its position x and lever r = x − grasp point (world), inward normal N
 /// and field gradient g (world; N under ContactGradient::normal_direction), depth d < 0, normal
-/// stiffness c = w k_C and the position in the field's body frame.
+/// stiffness c = w k_C (both through the contact onset, ContactOnset: |f_n| = −c d) and the
+/// position in the field's body frame.
 struct FrictionPoint {
   Eigen::Vector3d x, lever, normal, gradient, field_point;
   double depth, normal_stiffness;

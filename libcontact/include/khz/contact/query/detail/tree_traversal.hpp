@@ -104,12 +104,31 @@ class DeformablePoints {
   Eigen::Index m_internal;
 };
 
+/// A point at depth d < 0 through the contact onset of depth δ ≥ 0 (ContactOptions::onset_depth):
+/// its force is c · slope · depth along its normal, its stiffness c · slope and its share of ℓ
+/// w · slope, c = w k_C. Shallower than δ: slope = −d/δ and depth = d/2 (force −c d²/(2δ));
+/// deeper: slope = 1 and depth = d + δ/2. Continuous with its derivative at −δ; δ = 0 gives
+/// eq. 3.1 (slope 1, depth d).
+struct ContactOnset {
+  double slope = 1.0;
+  double depth = 0.0;
+  ContactOnset(double d, double onset) noexcept {
+    if (-d < onset) {
+      slope = -d / onset;
+      depth = 0.5 * d;
+    } else {
+      depth = d + 0.5 * onset;
+    }
+  }
+};
+
 /// Sums of the per-point contributions before the L/ℓ scaling, for the field object (§4.1–§4.2).
 ///
 /// A point in contact at r from the grasp point (world), with depth d < 0, inward normal N
 /// (world), field gradient g (world; N under ContactGradient::normal_direction) and weight w
-/// pushes the field object with f = c d N, c = w k_C. Moving the point by (−Δx, −Δω) about the
-/// grasp point with its normal turning along (eq. 4.4: ∂p/∂x = −I, ∂p/∂ω = r̃, ∂N/∂ω = Ñ) gives
+/// pushes the field object with f = c d N, c = w k_C (through ContactOnset: d is the onset's
+/// depth and c its stiffness). Moving the point by (−Δx, −Δω) about the grasp point with its
+/// normal turning along (eq. 4.4: ∂p/∂x = −I, ∂p/∂ω = r̃, ∂N/∂ω = Ñ) gives
 ///   ∂f/∂x = −c N gᵀ                 ∂f/∂ω = c N (g × r)ᵀ + f̃
 ///   ∂(r×f)/∂x = −c (r × N) gᵀ       ∂(r×f)/∂ω = c (r × N)(g × r)ᵀ + (r × f)~
 /// (eq. 4.5–4.9, with ã b̃ = b aᵀ − (a·b) I folding −f̃ r̃ + c d r̃ Ñ into (r × f)~), so four
@@ -226,12 +245,14 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
               frames.pointshell.matrix().allFinite() && frames.field.matrix().allFinite() &&
               frames.grasp_point.allFinite();
   if constexpr (deformable_field) fits = fits && field.dimension() == ws.m_field_dimension;
-  // Friction's default stick distance, μ_s h, needs the field's voxel h.
+  // Friction's default stick distance, μ_s h, and the contact onset's default depth need the
+  // field's voxel h.
+  double cell_size = 0.0;
+  if constexpr (CellSizedDistanceField<Field>) cell_size = field.cell_size();
+  const double onset = options.onset_depth_for(cell_size);
   FrictionOptions friction = options.friction;
   const bool with_friction = friction.enabled();
   if (with_friction) {
-    double cell_size = 0.0;
-    if constexpr (CellSizedDistanceField<Field>) cell_size = field.cell_size();
     friction.stick_distance = friction.stick_distance_for(cell_size);
     fits = fits && friction.stick_distance > 0.0;
   }
@@ -399,8 +420,10 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
           next[next_count++] = node.first_child + c;
         if (!first_instance || !(d < 0.0)) continue;
 
-        // A point in contact (eq. 3.1, §4.1–§4.2).
+        // A point in contact (eq. 3.1, §4.1–§4.2), through the onset.
+        const ContactOnset onset_point(d, onset);
         const double weight = weighted ? ws.m_area_weights[static_cast<std::size_t>(s)] : 1.0;
+        const double coefficient = weight * stiffness * onset_point.slope;
         const Eigen::Vector3d normal_body = points.normal(s);
         const Eigen::Vector3d normal = rotation_p * normal_body;
         const Eigen::Vector3d x = rotation_p * p + translation_p;
@@ -410,16 +433,16 @@ bool TraversalAccess::run(const Points& points, const Field& field, const Contac
         const Eigen::Vector3d gradient =
             exact_gradient ? Eigen::Vector3d(rotation_f * field_gradient) : normal;
         const Eigen::Vector3d lever = x - frames.grasp_point;
-        sums.add(lever, d, normal, gradient, weight * stiffness);
-        sums.weight += weight;
+        sums.add(lever, onset_point.depth, normal, gradient, coefficient);
+        sums.weight += weight * onset_point.slope;
         ++stats.points_in_contact;
         stats.deepest_penetration = std::max(stats.deepest_penetration, -d);
-        Eigen::Vector3d f = weight * stiffness * d * normal;  // on the field object, world
+        Eigen::Vector3d f = coefficient * onset_point.depth * normal;  // on the field object
         if (with_friction) {
-          f += add_point_friction({x, lever, normal, gradient, field_point, d, weight * stiffness},
-                                  friction, ws.anchor_holds(s, level), ws.m_friction_query,
-                                  ws.m_last_normal_load, rotation_f, frames.field.translation(),
-                                  ws.m_anchors[static_cast<std::size_t>(s)], friction_sums);
+          f += add_point_friction(
+              {x, lever, normal, gradient, field_point, onset_point.depth, coefficient}, friction,
+              ws.anchor_holds(s, level), ws.m_friction_query, ws.m_last_normal_load, rotation_f,
+              frames.field.translation(), ws.m_anchors[static_cast<std::size_t>(s)], friction_sums);
         }
         if constexpr (Points::deformable) {
           points.add_reduced_force(s, rotation_p.transpose() * -f, ws.m_contact_reduced_force);
