@@ -7,9 +7,9 @@
 // (targets: jump p99 ≤ 5 %, steady press ≤ 1 µm and ≤ 1e-4 rad), and the largest step and turn
 // once it has been still for 0.3 s (the "manipulandum still for 0.3 s": what a press has
 // settled to, where the 0.1 s figures also catch the last of a slow decaying sway); under a time
-// budget, how many
-// of the cut cycles would have fit (their cycle in a run without degradation took at most the
-// budget; the two runs follow nearly the same states), and how many took at most 90 % of it.
+// budget, how many of the cut cycles would have fit (their cycle in a run without degradation
+// took at most the budget; the two runs follow nearly the same states), and how many took at
+// most 90 % of it.
 // A plain program (CLI11): the first run prepares the scenes into --cache (minutes), later runs
 // read them.
 

@@ -154,12 +154,20 @@ TEST(ContactQuery, RigidTreeEqualsBruteForceOverEveryPointAgainstAnalyticShapes)
   EXPECT_GE(touching, 8);  // the poses exercise the L/ℓ scaling
 }
 
+/// The unit cube [0, 1]³ as a signed distance field of 48 cells (voxel 31 mm).
+const DistanceGrid& unit_cube_grid() {
+  static const DistanceGrid grid = [] {
+    DistanceFieldOptions options;
+    options.cells = 48;
+    return signed_distance_field(test::unit_cube_surface(), options);
+  }();
+  return grid;
+}
+
 TEST(ContactQuery, RigidTreeEqualsBruteForceAgainstASampledGrid) {
   // The unit sphere pressed 1–11 cm into the top face of the unit cube's sampled field, turned.
   const PointTree& tree = fixture().sphere;
-  DistanceFieldOptions field_options;
-  field_options.cells = 48;
-  const DistanceGrid grid = signed_distance_field(test::unit_cube_surface(), field_options);
+  const DistanceGrid& grid = unit_cube_grid();
   ContactOptions options;
   options.onset_voxels = 1.0;  // deep enough that many of the poses' points lie within it
   ContactWorkspace workspace(tree, options);
@@ -189,9 +197,7 @@ TEST(ContactQuery, TheOnsetKeepsTheForceContinuousAsPointsEnterContact) {
   // (0.1 voxel) a point's force and count grow from zero, and no step changes the force by more
   // than the press itself does.
   const PointTree& tree = fixture().sphere;
-  DistanceFieldOptions field_options;
-  field_options.cells = 48;
-  const DistanceGrid grid = signed_distance_field(test::unit_cube_surface(), field_options);
+  const DistanceGrid& grid = unit_cube_grid();
   const auto largest_step = [&](const ContactOptions& options, double& onset_share) {
     ContactWorkspace workspace(tree, options);
     double largest = 0.0, previous = 0.0;

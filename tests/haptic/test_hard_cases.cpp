@@ -511,21 +511,22 @@ TEST_P(HapticHardCases, ARodLeveredAgainstAPillarIsHeldByTheSizeAwareTorqueSatur
 // ---------------------------------------------------------------------------------------------
 // 7. Many simultaneous contacts (§3.5's L/ℓ, §4.7).
 
+/// The cases' contact onset δ (m): the default's on their fields' voxel.
+const double case_onset = contact::ContactOptions{}.onset_depth_for(voxel);
+
 /// The depth (m) at which a flat face of many points pressed uniformly with `force` (N) rests
-/// on the floor once its count ℓ exceeds L, through the cases' default contact onset δ: each
-/// point pushes with k_C d²/(2δ) and counts d/δ within δ, so the face pushes with L k_C d/2
-/// there and with L k_C (d − δ/2) beyond (contact::ContactOptions::onset_depth).
+/// on the floor once its count ℓ exceeds L, through the onset δ: each point pushes with
+/// k_C d²/(2δ) and counts d/δ within δ, so the face pushes with L k_C d/2 there and with
+/// L k_C (d − δ/2) beyond (contact::ContactOptions::onset_depth).
 double uniform_press_depth(double force) {
-  const double onset = contact::ContactOptions{}.onset_voxels * voxel;
   const double stiffness = scaling_count * point_stiffness;
-  return 2.0 * force / stiffness <= onset ? 2.0 * force / stiffness
-                                          : force / stiffness + onset / 2.0;
+  return 2.0 * force / stiffness <= case_onset ? 2.0 * force / stiffness
+                                               : force / stiffness + case_onset / 2.0;
 }
 
 /// That face's contact stiffness (N/m) at depth d (m): L k_C / 2 within the onset, L k_C beyond.
 double uniform_press_stiffness(double depth) {
-  const double onset = contact::ContactOptions{}.onset_voxels * voxel;
-  return scaling_count * point_stiffness * (depth < onset ? 0.5 : 1.0);
+  return scaling_count * point_stiffness * (depth < case_onset ? 0.5 : 1.0);
 }
 
 TEST_P(HapticHardCases, HundredsOfContactsKeepTheRenderedStiffnessBelowTheCoupling) {

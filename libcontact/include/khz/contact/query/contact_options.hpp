@@ -206,9 +206,9 @@ struct KHZ_CONTACT_API ContactOptions {
   /// then gets δ = 0, eq. 3.1 exactly.
   double onset_depth = 0.0;
   /// δ in voxels of the field queried when onset_depth is 0, ≥ 0; 0 turns the onset off
-  /// (eq. 3.1). The default, 0.1, took every bundled scene's contact-force jump p99 to 0.2–2.3 %
-  /// of its peak (from up to 6.7 %); 0.25 smooths a little more but softens tight contacts
-  /// (docs/HAPTICS.md).
+  /// (eq. 3.1). The default, 0.1, took every rigid bundled scene's contact-force jump p99 to
+  /// 0.2–2.4 % of its peak (from up to 6.7 %); 0.25 smooths a little more but softens tight
+  /// contacts (docs/HAPTICS.md).
   double onset_voxels = 0.1;
   DegradationOptions degradation;
   CoherenceOptions coherence;
