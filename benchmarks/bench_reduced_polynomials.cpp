@@ -1,18 +1,23 @@
 // Reduced internal forces from the energy polynomial (PolynomialForces, thesis §2.6.4) on random
 // quartic energies for r = 5 … 60, one thread: K̃ and R̃ together (evaluate), R̃ alone
 // (evaluate_forces), and one implicit Newmark Newton iteration (newton_step: evaluate, then
-// A = α₁ I + K̃ and a dense LLT solve, both in preallocated storage). `streaming_limit` compares
-// evaluate() with a BLAS dgemv over a matrix of as many bytes as the coefficients (the
-// memory-streaming limit at that size) and with dgemv over an L1-resident matrix repeated to stream
-// as many bytes (the arithmetic limit): evaluate_per_dgemv near 1 means evaluate() runs at the
-// speed of memory.
+// A = α₁ I + K̃ and the reduced integrators' own dense solve, DenseSymmetricSolver, all in
+// preallocated storage). `streaming_limit` compares evaluate() and the Newton iteration, in the
+// same process, with a BLAS dgemv over a matrix of as many bytes as the coefficients (the
+// memory-streaming limit at that size), with dgemv over an L1-resident matrix repeated to stream
+// as many bytes (the arithmetic limit), and with a loop that streams as many bytes doing three FMAs
+// per eight doubles (fma_floor: the least arithmetic a Hessian needs per coefficient, see
+// quartic_tile_kernels.cpp). evaluate_per_dgemv near 1 means evaluate() runs at the speed of
+// memory; fma_floor_per_dgemv is how near this CPU lets it come (issue 23, item 3).
+#include "subspace/dense_symmetric_solve.hpp"
+#include "subspace/simd_lanes.hpp"
+
 #include <khz/reduced/subspace/energy_polynomial.hpp>
 #include <khz/reduced/subspace/polynomial_forces.hpp>
 #include <khz/test/random_polynomial.hpp>
 
 #include <benchmark/benchmark.h>
 #include <dlfcn.h>
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 #include <algorithm>
@@ -102,22 +107,31 @@ void evaluate_forces(benchmark::State& state) {
                           static_cast<std::int64_t>(f.model.coefficient_bytes()));
 }
 
+/// One Newton iteration of the reduced implicit Newmark step: R̃ and K̃, A = α₁ I + K̃ formed
+/// where evaluate() writes K̃, and A x = R̃ solved by the integrators' solver.
+struct NewtonStep {
+  explicit NewtonStep(Fixture& fixture)
+      : f(fixture),
+        system(f.model.dimension(), f.model.dimension()),
+        solver(f.model.dimension()),
+        step(f.model.dimension()) {}
+  void operator()() {
+    f.model.evaluate(f.q, step, system);
+    system.diagonal().array() += kNewmarkAlpha1;
+    solver.solve_in_place(system, step);
+    benchmark::DoNotOptimize(step.data());
+  }
+  Fixture& f;
+  Eigen::MatrixXd system;
+  kr::detail::DenseSymmetricSolver solver;
+  Eigen::VectorXd step;
+};
+
 void newton_step(benchmark::State& state) {
   Fixture& f = fixture(state.range(0));
   f.set_up(state);
-  const Eigen::Index r = f.model.dimension();
-  // A = α₁ I + K̃ is formed where evaluate() writes K̃ and factored in place, as an integrator
-  // with a preallocated system matrix would.
-  Eigen::MatrixXd system = Eigen::MatrixXd::Identity(r, r);
-  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(system);
-  Eigen::VectorXd step(r);
-  for (auto _ : state) {
-    f.model.evaluate(f.q, f.forces, system);
-    system.diagonal().array() += kNewmarkAlpha1;
-    llt.compute(system);
-    step = llt.solve(f.forces);
-    benchmark::DoNotOptimize(step.data());
-  }
+  NewtonStep newton(f);
+  for (auto _ : state) newton();
 }
 
 /// Shortest mean time of `repeats` calls over several rounds, in µs.
@@ -155,6 +169,30 @@ struct Gemv {
   Eigen::VectorXd x, y;
 };
 
+/// Streams `doubles` doubles (rounded up to a multiple of 32) doing three independent FMAs on
+/// each vector of eight, in the kernels' own lanes and in four chains so that latency does not
+/// bound it: the Hessian kernel's arithmetic without its bookkeeping.
+struct FmaFloor {
+  // Aligned like the coefficients (Eigen aligns to the widest vector).
+  explicit FmaFloor(int doubles) : data(Eigen::VectorXd::Constant((doubles + 31) / 32 * 32, 0.5)) {}
+  void operator()() {
+    namespace d = kr::detail;
+    d::Lanes sums[4][3];
+    for (auto& chain : sums) {
+      for (d::Lanes& s : chain) s = d::zero_lanes();
+    }
+    const d::Lanes w[3] = {d::broadcast(1.1), d::broadcast(0.9), d::broadcast(1.3)};
+    for (Eigen::Index i = 0; i < data.size(); i += 32) {
+      for (int chain = 0; chain < 4; ++chain) {
+        const d::Lanes x = d::load(&data[i + 8 * chain]);
+        for (int k = 0; k < 3; ++k) sums[chain][k] = d::fma(x, w[k], sums[chain][k]);
+      }
+    }
+    benchmark::DoNotOptimize(sums);
+  }
+  Eigen::VectorXd data;
+};
+
 void streaming_limit(benchmark::State& state) {
   Fixture& f = fixture(state.range(0));
   f.set_up(state);
@@ -163,21 +201,29 @@ void streaming_limit(benchmark::State& state) {
   Gemv same_bytes(rows, (doubles + rows - 1) / rows);
   // 24 KB, half of L1d, repeated to stream as many bytes as the coefficients.
   Gemv cached(64, 48);
+  FmaFloor fma_floor(doubles);
+  NewtonStep newton(f);
   const int cached_repeats = std::max(1, doubles / (64 * 48));
   const int repeats = std::max(1, 20'000'000 / std::max(doubles, 1) / 8);
   const double evaluate_us =
       best_time_us([&] { f.model.evaluate(f.q, f.forces, f.stiffness); }, repeats);
+  const double newton_us = best_time_us(newton, repeats);
   const double dgemv_us = best_time_us(same_bytes, repeats);
   const double cached_us = best_time_us(cached, repeats * cached_repeats) * cached_repeats;
+  const double fma_floor_us = best_time_us(fma_floor, repeats);
   for (auto _ : state) {
     f.model.evaluate(f.q, f.forces, f.stiffness);
     benchmark::DoNotOptimize(f.stiffness.data());
   }
   state.counters["evaluate_us"] = evaluate_us;
+  state.counters["newton_us"] = newton_us;
   state.counters["dgemv_us"] = dgemv_us;
   state.counters["dgemv_l1_us"] = cached_us;
+  state.counters["fma_floor_us"] = fma_floor_us;
   state.counters["evaluate_per_dgemv"] = evaluate_us / dgemv_us;
   state.counters["evaluate_per_dgemv_l1"] = evaluate_us / cached_us;
+  state.counters["newton_per_dgemv"] = newton_us / dgemv_us;
+  state.counters["fma_floor_per_dgemv"] = fma_floor_us / dgemv_us;
 }
 
 void dimensions(benchmark::internal::Benchmark* benchmark) {
