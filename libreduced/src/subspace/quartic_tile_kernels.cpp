@@ -126,8 +126,8 @@ template <int D, Sums kSums, typename Group>
       if constexpr (kInRegisters) {
         first_group[i] = fma(xv, sums.diagonal[j], first_group[i]);
       } else if constexpr (kSums != Sums::none) {
-        halves_tile =
-            fma(xv, sums.diagonal[j], halves_tile);  // Zero lanes past the column add nothing.
+        // Zero lanes past the column add nothing.
+        halves_tile = fma(xv, sums.diagonal[j], halves_tile);
       }
     });
     if constexpr (kSums != Sums::none && !kInRegisters) store(column + kLanes * g, halves_tile);
@@ -187,7 +187,7 @@ constexpr int kBlocksTogether = K > 0 ? 2 : 1;
 template <int K, int D = 1>
 struct Tiles {
   Lanes q[K > 0 ? K : 1];
-  Lanes product[K > 0 ? D* K : 1];
+  Lanes product[(K > 0 ? K : 1) * D];  // D = 1 when K = 0
   Lanes product_sum[K > 0 ? K : 1];
 };
 
