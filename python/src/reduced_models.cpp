@@ -394,16 +394,23 @@ takes microseconds; it never raises: a failed step reports status 'failed' and l
 state as it was.)")
       .def(
           "step",
-          [](ReducedSimulation& s, const py::handle& force) {
-            const Eigen::VectorXd f = real_vector(force, "force", s.integrator->dimension());
-            const auto report = s.integrator->step(f);
+          [](ReducedSimulation& s, const py::handle& force, const py::handle& stiffness) {
+            const Eigen::Index r = s.integrator->dimension();
+            const Eigen::VectorXd f = real_vector(force, "force", r);
+            const auto report =
+                stiffness.is_none()
+                    ? s.integrator->step(f)
+                    : s.integrator->step(
+                          f, Eigen::MatrixXd(real_matrix(stiffness, "stiffness", r, r)));
             static const char* names[] = {"converged", "iteration_limit", "failed"};
             return py::make_tuple(names[static_cast<int>(report.status)], report.iterations,
                                   report.residual_norm);
           },
-          py::arg("force"),
+          py::arg("force"), py::arg("stiffness") = py::none(),
           "One step under f̃ (r,); returns (status, iterations, residual): status 'converged', "
-          "'iteration_limit' or 'failed'.")
+          "'iteration_limit' or 'failed'. With `stiffness` K̃ₑ = −∂f̃/∂q (r, r, "
+          "symmetric) the force acts as f̃ − K̃ₑ (q − q_n) at the "
+          "step's new coordinates.")
       .def(
           "run",
           [](ReducedSimulation& s, const py::handle& forces) {

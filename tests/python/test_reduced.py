@@ -154,6 +154,8 @@ def test_bad_input_raises_clear_errors(beam, model):
     integrator = kr.reduced_newmark(model)
     with pytest.raises(ValueError, match=r"force: expected shape \(8,\)"):
         integrator.step(np.zeros(3))
+    with pytest.raises(ValueError, match=r"stiffness: expected shape \(8, 8\)"):
+        integrator.step(np.zeros(8), np.zeros((3, 3)))
     with pytest.raises(kilohertz.Cancelled):
         kr.linear_modes(fem, clamped, num_modes=4, progress=lambda *report: False)
 

@@ -32,12 +32,19 @@ struct CentralDifferenceScheme : detail::StepWorkspace {
         predicted_velocity(shared.q.size()) {}
 
   /// One step (ReducedIntegrator::advance() has the contract).
-  ReducedStepReport advance(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept;
+  ReducedStepReport advance(const Eigen::Ref<const Eigen::VectorXd>& external_force,
+                            const Eigen::Ref<const Eigen::MatrixXd>* external_stiffness) noexcept;
 
-  /// acceleration = f̃ − R̃ − αM̃ q̇_pred: the net force before stiffness damping.
-  void net_force(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
+  /// acceleration = f̃ − K̃ₑ (q_{n+1} − q_n) − R̃ − αM̃ q̇_pred: the net force before stiffness
+  /// damping (the external force at the explicit q_{n+1}).
+  void net_force(const Eigen::Ref<const Eigen::VectorXd>& external_force,
+                 const Eigen::Ref<const Eigen::MatrixXd>* external_stiffness) noexcept {
     state.multiply_mass(predicted_velocity, velocity);  // velocity is free until the update
     acceleration = external_force - forces - options.mass_damping * velocity;
+    if (external_stiffness != nullptr) {
+      velocity = next - state.q;
+      acceleration.noalias() -= *external_stiffness * velocity;
+    }
   }
 
   // The workspace's system is M̃ + ½Δt C̃ and its stiffness K̃(q_{n+1}), both used when β > 0.
@@ -47,7 +54,8 @@ struct CentralDifferenceScheme : detail::StepWorkspace {
 };
 
 ReducedStepReport CentralDifferenceScheme::advance(
-    const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
+    const Eigen::Ref<const Eigen::VectorXd>& external_force,
+    const Eigen::Ref<const Eigen::MatrixXd>* external_stiffness) noexcept {
   detail::ReducedState& s = state;
   ReducedStepReport report;
 
@@ -62,7 +70,7 @@ ReducedStepReport CentralDifferenceScheme::advance(
   if (beta > 0.0) {
     s.forces.evaluate(next, forces, stiffness);
     if (!forces.allFinite() || !stiffness.allFinite()) return report;
-    net_force(external_force);
+    net_force(external_force, external_stiffness);
     acceleration.noalias() -= beta * (stiffness * predicted_velocity);
     system = (0.5 * h * beta) * stiffness;
     s.add_scaled_mass(1.0 + 0.5 * h * alpha, system);
@@ -73,7 +81,7 @@ ReducedStepReport CentralDifferenceScheme::advance(
     s.forces.evaluate_forces(next, forces);
     if (!forces.allFinite()) return report;
     // C̃ = αM̃: the system matrix (1 + ½Δtα) M̃ reuses the mass factor.
-    net_force(external_force);
+    net_force(external_force, external_stiffness);
     s.solve_mass_in_place(acceleration);
     acceleration /= 1.0 + 0.5 * h * alpha;
   }

@@ -20,7 +20,21 @@ ReducedStepReport ReducedIntegrator::step(
     const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
   assert(external_force.size() == m_state->q.size() && "external force must have r entries");
   if (external_force.size() != m_state->q.size() || !external_force.allFinite()) return {};
-  return advance(external_force);
+  return advance(external_force, nullptr);
+}
+
+ReducedStepReport ReducedIntegrator::step(
+    const Eigen::Ref<const Eigen::VectorXd>& external_force,
+    const Eigen::Ref<const Eigen::MatrixXd>& external_stiffness) noexcept {
+  const Eigen::Index r = m_state->q.size();
+  assert(external_force.size() == r && "external force must have r entries");
+  assert(external_stiffness.rows() == r && external_stiffness.cols() == r &&
+         "external stiffness must be r×r");
+  if (external_force.size() != r || !external_force.allFinite() || external_stiffness.rows() != r ||
+      external_stiffness.cols() != r || !external_stiffness.allFinite()) {
+    return {};
+  }
+  return advance(external_force, &external_stiffness);
 }
 
 Eigen::Index ReducedIntegrator::dimension() const noexcept { return m_state->q.size(); }

@@ -43,7 +43,8 @@ struct NewmarkScheme : detail::StepWorkspace {
         work(shared.q.size()) {}
 
   /// One step (ReducedIntegrator::advance() has the contract).
-  ReducedStepReport advance(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept;
+  ReducedStepReport advance(const Eigen::Ref<const Eigen::VectorXd>& external_force,
+                            const Eigen::Ref<const Eigen::MatrixXd>* external_stiffness) noexcept;
 
   /// The scale s of §3.10.2 for this step (1 when the acceleration is within the limit), from the
   /// forces and stiffness evaluated at q_i.
@@ -88,7 +89,8 @@ void NewmarkScheme::remove_spurious_energy(double scale) noexcept {
 }
 
 ReducedStepReport NewmarkScheme::advance(
-    const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
+    const Eigen::Ref<const Eigen::VectorXd>& external_force,
+    const Eigen::Ref<const Eigen::MatrixXd>* external_stiffness) noexcept {
   detail::ReducedState& s = state;
   ReducedStepReport report;
 
@@ -121,15 +123,20 @@ ReducedStepReport NewmarkScheme::advance(
       residual.noalias() += (scale * p.stiffness_damping) * (stiffness * velocity);
     }
     residual += scale * (forces - external_force);
+    // The external force at the iterate, f̃ − K̃ₑ (q − q_n).
+    if (external_stiffness != nullptr) {
+      residual.noalias() += scale * (*external_stiffness * increment);
+    }
     report.residual_norm = residual.norm();
     if (!std::isfinite(report.residual_norm)) return report;
     if (report.residual_norm <= tolerance) {  // lines 10-11
       converged = true;
       break;
     }
-    // Line 7: A = α1 M̃ + s (α4 C̃ + K̃) = (α1 + s α4 α) M̃ + s (1 + α4 β) K̃.
+    // Line 7: A = α1 M̃ + s (α4 C̃ + K̃) = (α1 + s α4 α) M̃ + s (1 + α4 β) K̃, plus s K̃ₑ.
     system = (scale * (1.0 + c.alpha4 * p.stiffness_damping)) * stiffness;
     s.add_scaled_mass(c.alpha1 + scale * c.alpha4 * p.mass_damping, system);
+    if (external_stiffness != nullptr) system += scale * *external_stiffness;
     residual = -residual;  // lines 12-13: A δ = −residual
     const detail::DenseSolve solve = solver.solve_in_place(system, residual);
     if (solve == detail::DenseSolve::failed) return report;

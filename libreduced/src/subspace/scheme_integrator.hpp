@@ -10,8 +10,8 @@
 namespace khz::reduced::detail {
 
 /// A ReducedIntegrator that steps with `Scheme`: a type constructed from (ReducedState&, its
-/// options) that keeps the state reference and whose `advance(f̃) noexcept` is a scheme's step
-/// as ReducedIntegrator::advance() specifies it.
+/// options) that keeps the state reference and whose `advance(f̃, K̃ₑ or null) noexcept` is a
+/// scheme's step as ReducedIntegrator::advance() specifies it.
 template <typename Scheme>
 class SchemeIntegrator final : public ReducedIntegrator {
  public:
@@ -29,8 +29,9 @@ class SchemeIntegrator final : public ReducedIntegrator {
 
  private:
   ReducedStepReport advance(
-      const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept override {
-    return m_scheme.advance(external_force);
+      const Eigen::Ref<const Eigen::VectorXd>& external_force,
+      const Eigen::Ref<const Eigen::MatrixXd>* external_stiffness) noexcept override {
+    return m_scheme.advance(external_force, external_stiffness);
   }
 
   Scheme m_scheme;

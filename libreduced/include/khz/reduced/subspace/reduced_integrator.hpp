@@ -48,6 +48,15 @@ class KHZ_REDUCED_API ReducedIntegrator {
   /// state exactly as it was. The scheme's own step (advance()) sees only forces that passed
   /// these checks.
   ReducedStepReport step(const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept;
+  /// As step(external_force), for an external force that changes with q: over the step it is
+  /// f̃ − K̃ₑ (q_{n+1} − q_n), with K̃ₑ = −∂f̃/∂q the `external_stiffness` (r×r, symmetric, N·m
+  /// per unit q², e.g. a contact's stiffness projected on the modes). The implicit scheme takes
+  /// it into its Newton iterations (a linearly implicit external force, stable where a stiff
+  /// force held over the step makes the model ring); central differences evaluates the force at
+  /// its explicit q_{n+1}. A zero matrix gives step(external_force). A wrong-sized or non-finite
+  /// stiffness fails the step as a force does. Never throws, never allocates.
+  ReducedStepReport step(const Eigen::Ref<const Eigen::VectorXd>& external_force,
+                         const Eigen::Ref<const Eigen::MatrixXd>& external_stiffness) noexcept;
 
   Eigen::Index dimension() const noexcept;               ///< r.
   const Eigen::VectorXd& coordinates() const noexcept;   ///< q, r entries.
@@ -94,9 +103,11 @@ class KHZ_REDUCED_API ReducedIntegrator {
   detail::ReducedState& shared_state() noexcept { return *m_state; }
 
  private:
-  /// The scheme's step (the derived class's): as step(), with a finite force of r entries.
+  /// The scheme's step (the derived class's): as step(), with a finite force of r entries and,
+  /// unless null, a finite r×r external stiffness.
   virtual ReducedStepReport advance(
-      const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept = 0;
+      const Eigen::Ref<const Eigen::VectorXd>& external_force,
+      const Eigen::Ref<const Eigen::MatrixXd>* external_stiffness) noexcept = 0;
 
   std::unique_ptr<detail::ReducedState> m_state;
 };
