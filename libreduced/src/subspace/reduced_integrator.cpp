@@ -16,10 +16,20 @@ ReducedIntegrator::ReducedIntegrator(ReducedForceModel& forces, const Eigen::Mat
 
 ReducedIntegrator::~ReducedIntegrator() = default;
 
+namespace {
+
+/// Whether `force` is a finite vector of r entries, as both step()s require (a wrong size also
+/// asserts in debug builds).
+bool usable_force(const Eigen::Ref<const Eigen::VectorXd>& force, Eigen::Index r) noexcept {
+  assert(force.size() == r && "external force must have r entries");
+  return force.size() == r && force.allFinite();
+}
+
+}  // namespace
+
 ReducedStepReport ReducedIntegrator::step(
     const Eigen::Ref<const Eigen::VectorXd>& external_force) noexcept {
-  assert(external_force.size() == m_state->q.size() && "external force must have r entries");
-  if (external_force.size() != m_state->q.size() || !external_force.allFinite()) return {};
+  if (!usable_force(external_force, m_state->q.size())) return {};
   return advance(external_force, nullptr);
 }
 
@@ -27,10 +37,9 @@ ReducedStepReport ReducedIntegrator::step(
     const Eigen::Ref<const Eigen::VectorXd>& external_force,
     const Eigen::Ref<const Eigen::MatrixXd>& external_stiffness) noexcept {
   const Eigen::Index r = m_state->q.size();
-  assert(external_force.size() == r && "external force must have r entries");
   assert(external_stiffness.rows() == r && external_stiffness.cols() == r &&
          "external stiffness must be r×r");
-  if (external_force.size() != r || !external_force.allFinite() || external_stiffness.rows() != r ||
+  if (!usable_force(external_force, r) || external_stiffness.rows() != r ||
       external_stiffness.cols() != r || !external_stiffness.allFinite()) {
     return {};
   }
